@@ -1,0 +1,100 @@
+// The 3DVO high-level syntax: one struct per syntax structure, fields named after the syntax
+// elements of docs/bitstream.md, and one transfer() per structure that both writes and parses
+// it (see byte_io.h). Semantic limits are checked here, so a parsed structure can be trusted by
+// the decoder.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "bitstream/byte_io.h"
+
+namespace tdvo {
+
+// Bumped whenever the syntax or the decoding process changes; conformance streams are then
+// regenerated (conformance/README.md).
+constexpr uint16_t kSyntaxVersion = 1;
+
+// Limits a decoder checks before it allocates anything (docs/bitstream.md, "Limits").
+constexpr uint32_t kMaxFrames = 1000000;
+constexpr uint32_t kMaxGomFrames = 65535;
+constexpr uint32_t kMaxVertices = 1u << 24;
+constexpr uint32_t kMaxTriangles = 1u << 25;
+
+enum class PMeshMode : uint8_t {
+  kIntra = 0,  // every frame of the GOM is an I mesh
+  kD3dmc = 1,  // one I mesh, then P meshes predicted from the previous decoded frame
+};
+
+struct SequenceHeader {
+  uint16_t sh_syntax_version = kSyntaxVersion;
+  uint32_t sh_frame_count = 0;
+  double sh_frame_rate = 25.0;
+  uint8_t sh_grid_bits = 12;
+  double sh_grid_origin[3] = {0, 0, 0};
+  double sh_grid_step = 1.0;
+};
+
+template <class Io>
+void transfer(Io& io, SequenceHeader& sh) {
+  io.u16("sh_syntax_version", sh.sh_syntax_version);
+  io.require(sh.sh_syntax_version == kSyntaxVersion,
+             "sh_syntax_version " + std::to_string(sh.sh_syntax_version) +
+                 " is not supported (this decoder reads version " + std::to_string(kSyntaxVersion) +
+                 ")");
+  io.u32("sh_frame_count", sh.sh_frame_count, 1, kMaxFrames);
+  io.f64("sh_frame_rate", sh.sh_frame_rate);
+  io.require(std::isfinite(sh.sh_frame_rate) && sh.sh_frame_rate > 0 && sh.sh_frame_rate <= 1000,
+             "sh_frame_rate must be in (0, 1000]");
+  io.u8("sh_grid_bits", sh.sh_grid_bits, 8, 20);
+  io.f64("sh_grid_origin_x", sh.sh_grid_origin[0]);
+  io.f64("sh_grid_origin_y", sh.sh_grid_origin[1]);
+  io.f64("sh_grid_origin_z", sh.sh_grid_origin[2]);
+  io.f64("sh_grid_step", sh.sh_grid_step);
+  io.require(std::isfinite(sh.sh_grid_origin[0]) && std::isfinite(sh.sh_grid_origin[1]) &&
+                 std::isfinite(sh.sh_grid_origin[2]),
+             "sh_grid_origin must be finite");
+  io.require(std::isfinite(sh.sh_grid_step) && sh.sh_grid_step > 0,
+             "sh_grid_step must be finite and positive");
+}
+
+struct GomHeader {
+  uint32_t gh_first_frame = 0;
+  uint16_t gh_frame_count = 1;
+  uint8_t gh_pmesh_mode = 0;  // PMeshMode
+};
+
+template <class Io>
+void transfer(Io& io, GomHeader& gh) {
+  io.u32("gh_first_frame", gh.gh_first_frame, 0, kMaxFrames - 1);
+  io.u16("gh_frame_count", gh.gh_frame_count, 1, kMaxGomFrames);
+  io.u8("gh_pmesh_mode", gh.gh_pmesh_mode, 0, 1);
+}
+
+// An I mesh: a Draco mesh whose POSITION attribute holds the grid integers.
+struct IMeshUnit {
+  uint32_t im_frame = 0;
+  std::vector<uint8_t> im_draco_payload;
+};
+
+template <class Io>
+void transfer(Io& io, IMeshUnit& im) {
+  io.u32("im_frame", im.im_frame, 0, kMaxFrames - 1);
+  io.rest("im_draco_payload", im.im_draco_payload);
+}
+
+// A P mesh: positions only, predicted from the previous decoded frame of the GOM; the payload
+// is CABAC-coded (pmesh_syntax.h).
+struct PMeshUnit {
+  uint32_t pm_frame = 0;
+  std::vector<uint8_t> pm_cabac_payload;
+};
+
+template <class Io>
+void transfer(Io& io, PMeshUnit& pm) {
+  io.u32("pm_frame", pm.pm_frame, 0, kMaxFrames - 1);
+  io.rest("pm_cabac_payload", pm.pm_cabac_payload);
+}
+
+}  // namespace tdvo

@@ -1,0 +1,73 @@
+// The 3DVO unit container.
+//
+//   stream := "3DVO" unit*
+//   unit   := unit_type (u8) unit_size (u32 LE) payload[unit_size] unit_crc (u32 LE)
+//
+// unit_crc is the CRC-32 (zlib's crc32, ISO-HDLC polynomial) of unit_type, unit_size and the
+// payload. Units are read whole and their CRC is checked before any payload byte is parsed.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tdvo {
+
+enum class UnitType : uint8_t {
+  kSequenceHeader = 1,
+  kGomHeader = 2,
+  kIMesh = 3,
+  kPMesh = 4,
+};
+
+const char* unitTypeName(uint8_t type);
+
+constexpr char kStreamMagic[4] = {'3', 'D', 'V', 'O'};
+constexpr size_t kUnitHeaderSize = 5;  // unit_type + unit_size
+constexpr size_t kUnitOverhead = kUnitHeaderSize + 4;
+// No unit may be larger than this (a corrupt size field must not cause a huge allocation).
+constexpr uint32_t kMaxUnitSize = 1u << 30;
+
+// Appends units to a stream held in memory.
+class UnitWriter {
+ public:
+  UnitWriter();
+  void write(UnitType type, const std::vector<uint8_t>& payload);
+  const std::vector<uint8_t>& bytes() const { return stream_; }
+  // Bytes written so far per unit type (for the encoder's summary), indexed by the type value.
+  uint64_t bytesOfType(UnitType type) const;
+
+ private:
+  std::vector<uint8_t> stream_;
+  uint64_t typeBytes_[256] = {};
+};
+
+// One unit as found in a stream; `payload` points into the stream buffer.
+struct UnitView {
+  uint8_t type = 0;
+  const uint8_t* payload = nullptr;
+  uint32_t size = 0;
+  uint64_t offset = 0;         // stream offset of the unit's first byte
+  uint64_t payloadOffset = 0;  // stream offset of payload[0]
+  size_t index = 0;            // 0-based unit number
+  // "unit 3 (I_MESH) at byte 1234" — the prefix of every error about this unit.
+  std::string describe() const;
+};
+
+// Walks the units of a stream held in memory. `name` (the file name) prefixes error messages.
+class UnitReader {
+ public:
+  UnitReader(const uint8_t* data, size_t size, std::string name);
+  // Returns false at the end of the stream; throws Error on a truncated or corrupted unit.
+  bool next(UnitView& unit);
+  const std::string& name() const { return name_; }
+
+ private:
+  const uint8_t* data_;
+  size_t size_;
+  size_t pos_;
+  size_t index_ = 0;
+  std::string name_;
+};
+
+}  // namespace tdvo

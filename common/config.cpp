@@ -1,0 +1,229 @@
+#include "common/config.h"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "common/error.h"
+#include "common/file_io.h"
+
+namespace tdvo {
+
+namespace {
+
+std::string trim(const std::string& s) {
+  size_t b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return "";
+  size_t e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
+}
+
+std::string formatDouble(double v) {
+  char buffer[32];
+  auto r = std::to_chars(buffer, buffer + sizeof buffer, v);
+  return std::string(buffer, r.ptr);
+}
+
+}  // namespace
+
+void OptionTable::section(const std::string& title) {
+  currentSection_ = title;
+}
+
+OptionTable::Option& OptionTable::addOption(const std::string& key, const std::string& help) {
+  if (find(key)) throw std::logic_error("option " + key + " added twice");
+  Option o;
+  o.key = key;
+  o.help = help;
+  o.section = currentSection_;
+  options_.push_back(std::move(o));
+  return options_.back();
+}
+
+void OptionTable::add(const std::string& key, std::string& field, const std::string& help,
+                      const std::string& shortFlag) {
+  Option& o = addOption(key, help);
+  o.shortFlag = shortFlag;
+  o.parse = [&field](const std::string& v) { field = v; };
+  o.print = [&field]() { return field; };
+  o.defaultValue = field;
+}
+
+void OptionTable::add(const std::string& key, int& field, int min, int max,
+                      const std::string& help) {
+  Option& o = addOption(key, help + " [" + std::to_string(min) + ".." + std::to_string(max) + "]");
+  o.parse = [&field, min, max](const std::string& v) {
+    long long value = 0;
+    auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), value);
+    if (v.empty() || ec != std::errc() || ptr != v.data() + v.size())
+      throw std::string("'" + v + "' is not an integer");
+    if (value < min || value > max)
+      throw std::string("value " + v + " out of range [" + std::to_string(min) + ", " +
+                        std::to_string(max) + "]");
+    field = static_cast<int>(value);
+  };
+  o.print = [&field]() { return std::to_string(field); };
+  o.defaultValue = o.print();
+}
+
+void OptionTable::add(const std::string& key, double& field, double min, double max,
+                      const std::string& help) {
+  Option& o = addOption(key, help + " [" + formatDouble(min) + ".." + formatDouble(max) + "]");
+  o.parse = [&field, min, max](const std::string& v) {
+    double value = 0;
+    auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), value);
+    if (v.empty() || ec != std::errc() || ptr != v.data() + v.size() || !std::isfinite(value))
+      throw std::string("'" + v + "' is not a number");
+    if (value < min || value > max)
+      throw std::string("value " + v + " out of range [" + formatDouble(min) + ", " +
+                        formatDouble(max) + "]");
+    field = value;
+  };
+  o.print = [&field]() { return formatDouble(field); };
+  o.defaultValue = o.print();
+}
+
+void OptionTable::add(const std::string& key, bool& field, const std::string& help,
+                      const std::string& shortFlag) {
+  Option& o = addOption(key, help + " (true | false)");
+  o.shortFlag = shortFlag;
+  o.isBool = true;
+  o.parse = [&field](const std::string& v) {
+    if (v == "1" || v == "true" || v == "yes")
+      field = true;
+    else if (v == "0" || v == "false" || v == "no")
+      field = false;
+    else
+      throw std::string("'" + v + "' is not a boolean (true/false, 1/0, yes/no)");
+  };
+  o.print = [&field]() { return std::string(field ? "true" : "false"); };
+  o.defaultValue = o.print();
+}
+
+OptionTable::Option* OptionTable::find(const std::string& key) {
+  for (Option& o : options_)
+    if (o.key == key) return &o;
+  return nullptr;
+}
+
+const OptionTable::Option* OptionTable::find(const std::string& key) const {
+  for (const Option& o : options_)
+    if (o.key == key) return &o;
+  return nullptr;
+}
+
+void OptionTable::set(const std::string& key, const std::string& value, const std::string& origin) {
+  Option* o = find(key);
+  if (!o) throw Error(origin + ": unknown key '" + key + "' (see --help)");
+  try {
+    o->parse(value);
+  } catch (const std::string& message) {
+    throw Error(origin + ": " + key + ": " + message);
+  }
+  o->set = true;
+}
+
+bool OptionTable::wasSet(const std::string& key) const {
+  const Option* o = find(key);
+  return o && o->set;
+}
+
+void OptionTable::parseText(const std::string& text, const std::string& origin) {
+  std::istringstream in(text);
+  std::string line;
+  int lineNumber = 0;
+  while (std::getline(in, line)) {
+    ++lineNumber;
+    const std::string where = origin + ":" + std::to_string(lineNumber);
+    size_t hash = line.find('#');
+    if (hash != std::string::npos) line = line.substr(0, hash);
+    line = trim(line);
+    if (line.empty()) continue;
+    size_t colon = line.find(':');
+    if (colon == std::string::npos) throw Error(where + ": expected 'Key : value'");
+    const std::string key = trim(line.substr(0, colon));
+    if (key.empty()) throw Error(where + ": missing key before ':'");
+    set(key, trim(line.substr(colon + 1)), where);
+  }
+}
+
+void OptionTable::parseFile(const std::string& path) {
+  const std::vector<uint8_t> bytes = readFileBytes(path);
+  parseText(std::string(bytes.begin(), bytes.end()), path);
+}
+
+bool OptionTable::parseCommandLine(int argc, const char* const* argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "-h" || arg == "--help") {
+      std::fputs(helpText().c_str(), stdout);
+      return false;
+    }
+    if (arg == "-c") {
+      if (i + 1 >= argc) throw Error("-c needs a cfg file name");
+      parseFile(argv[++i]);
+      continue;
+    }
+    bool matched = false;
+    for (Option& o : options_)
+      if (!o.shortFlag.empty() && o.shortFlag == arg) {
+        if (o.isBool) {
+          set(o.key, "true", "option " + arg);
+        } else {
+          if (i + 1 >= argc) throw Error(arg + " needs a value");
+          set(o.key, argv[++i], "option " + arg);
+        }
+        matched = true;
+        break;
+      }
+    if (matched) continue;
+    if (arg.rfind("--", 0) == 0) {
+      size_t eq = arg.find('=');
+      const std::string key = arg.substr(2, eq == std::string::npos ? std::string::npos : eq - 2);
+      const Option* o = find(key);
+      if (eq == std::string::npos) {
+        if (!o || !o->isBool)
+          throw Error("option '" + arg + "' needs a value: --" + key + "=VALUE");
+        set(key, "true", "option " + arg);
+      } else {
+        set(key, arg.substr(eq + 1), "option " + arg);
+      }
+      continue;
+    }
+    throw Error("unknown argument '" + arg + "' (see --help)");
+  }
+  return true;
+}
+
+std::string OptionTable::helpText() const {
+  std::string out = "Usage: " + usage_ + "\n\n";
+  out += "  -c FILE          read a cfg file (Key : value lines); may be repeated, later wins\n";
+  out += "  --Key=VALUE      set one key; applied in order with the -c files\n";
+  out += "  -h, --help       print this help\n";
+  std::string section;
+  for (const Option& o : options_) {
+    if (o.section != section) {
+      section = o.section;
+      out += "\n" + section + ":\n";
+    }
+    std::string name = "  " + o.key;
+    if (!o.shortFlag.empty()) name += " (" + o.shortFlag + ")";
+    if (name.size() < 26) name.resize(26, ' ');
+    out += name + " " + o.help + "\n" + std::string(27, ' ') +
+           "default: " + (o.defaultValue.empty() ? "(none)" : o.defaultValue) + "\n";
+  }
+  return out;
+}
+
+std::string OptionTable::effectiveConfig() const {
+  std::string out;
+  for (const Option& o : options_) {
+    std::string key = o.key;
+    if (key.size() < 24) key.resize(24, ' ');
+    out += key + " : " + o.print() + "\n";
+  }
+  return out;
+}
+
+}  // namespace tdvo

@@ -1,0 +1,109 @@
+#include "common/file_io.h"
+
+#include <unistd.h>
+#include <zlib.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+
+#include "common/error.h"
+
+namespace tdvo {
+
+namespace {
+
+std::string systemError() {
+  return std::strerror(errno);
+}
+
+struct FileCloser {
+  void operator()(std::FILE* f) const {
+    if (f) std::fclose(f);
+  }
+};
+using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
+
+}  // namespace
+
+std::vector<uint8_t> readFileBytes(const std::string& path) {
+  FilePtr f(std::fopen(path.c_str(), "rb"));
+  if (!f) throw Error(path + ": cannot open: " + systemError());
+  std::vector<uint8_t> data;
+  uint8_t buffer[1 << 16];
+  size_t n;
+  while ((n = std::fread(buffer, 1, sizeof buffer, f.get())) > 0)
+    data.insert(data.end(), buffer, buffer + n);
+  if (std::ferror(f.get())) throw Error(path + ": read error: " + systemError());
+  return data;
+}
+
+std::string readFileMaybeGz(const std::string& path) {
+  // gzopen reads plain files transparently, so one path serves both.
+  FilePtr probe(std::fopen(path.c_str(), "rb"));
+  if (!probe) throw Error(path + ": cannot open: " + systemError());
+  probe.reset();
+  gzFile gz = gzopen(path.c_str(), "rb");
+  if (!gz) throw Error(path + ": cannot open: " + systemError());
+  std::string text;
+  char buffer[1 << 16];
+  int n;
+  while ((n = gzread(gz, buffer, sizeof buffer)) > 0)
+    text.append(buffer, static_cast<size_t>(n));
+  int errnum = Z_OK;
+  const char* message = gzerror(gz, &errnum);
+  std::string error = (n < 0 || errnum != Z_OK) ? std::string(message) : std::string();
+  gzclose(gz);
+  if (!error.empty()) throw Error(path + ": cannot decompress: " + error);
+  return text;
+}
+
+void writeFileAtomic(const std::string& path, const void* data, size_t size) {
+  const std::string temp = path + ".tmp" + std::to_string(::getpid());
+  {
+    FilePtr f(std::fopen(temp.c_str(), "wb"));
+    if (!f) throw Error(path + ": cannot create: " + systemError());
+    bool ok = std::fwrite(data, 1, size, f.get()) == size;
+    ok = (std::fflush(f.get()) == 0) && ok;
+    if (!ok) {
+      const std::string why = systemError();
+      f.reset();
+      std::remove(temp.c_str());
+      throw Error(path + ": write error: " + why);
+    }
+  }
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    const std::string why = systemError();
+    std::remove(temp.c_str());
+    throw Error(path + ": cannot rename temporary file into place: " + why);
+  }
+}
+
+StagedFiles::~StagedFiles() {
+  if (committed_) return;
+  for (const std::string& path : paths_)
+    std::remove((path + ".partial").c_str());
+}
+
+void StagedFiles::write(const std::string& path, const void* data, size_t size) {
+  writeFileAtomic(path + ".partial", data, size);
+  paths_.push_back(path);
+}
+
+void StagedFiles::commit() {
+  for (const std::string& path : paths_)
+    if (std::rename((path + ".partial").c_str(), path.c_str()) != 0)
+      throw Error(path + ": cannot rename staged output into place: " + systemError());
+  committed_ = true;
+}
+
+void makeDirectories(const std::string& path) {
+  if (path.empty()) return;
+  std::error_code ec;
+  std::filesystem::create_directories(path, ec);
+  if (ec) throw Error(path + ": cannot create folder: " + ec.message());
+}
+
+}  // namespace tdvo

@@ -1,0 +1,72 @@
+#include "common/md5.h"
+
+#include <openssl/evp.h>
+
+#include <vector>
+
+#include "common/error.h"
+
+namespace tdvo {
+
+Md5::Md5() : context_(EVP_MD_CTX_new()) {
+  if (!context_ || EVP_DigestInit_ex(static_cast<EVP_MD_CTX*>(context_), EVP_md5(), nullptr) != 1)
+    throw Error("OpenSSL: cannot initialise MD5");
+}
+
+Md5::~Md5() {
+  EVP_MD_CTX_free(static_cast<EVP_MD_CTX*>(context_));
+}
+
+void Md5::update(const void* data, size_t size) {
+  EVP_DigestUpdate(static_cast<EVP_MD_CTX*>(context_), data, size);
+}
+
+void Md5::updateU32(uint32_t value) {
+  const uint8_t bytes[4] = {static_cast<uint8_t>(value), static_cast<uint8_t>(value >> 8),
+                            static_cast<uint8_t>(value >> 16), static_cast<uint8_t>(value >> 24)};
+  update(bytes, 4);
+}
+
+Md5Digest Md5::finish() {
+  Md5Digest digest{};
+  unsigned int length = 0;
+  EVP_DigestFinal_ex(static_cast<EVP_MD_CTX*>(context_), digest.data(), &length);
+  return digest;
+}
+
+std::string toHex(const Md5Digest& digest) {
+  static const char kHex[] = "0123456789abcdef";
+  std::string out;
+  for (uint8_t b : digest) {
+    out += kHex[b >> 4];
+    out += kHex[b & 15];
+  }
+  return out;
+}
+
+Md5Digest geometryDigest(const IntMesh& mesh) {
+  // Serialise once and hash once: one EVP call per value would dominate decoding time.
+  std::vector<uint8_t> bytes;
+  bytes.reserve(8 + 12 * (mesh.positions.size() + mesh.triangles.size()));
+  auto put = [&bytes](uint32_t v) {
+    for (int shift = 0; shift < 32; shift += 8)
+      bytes.push_back(static_cast<uint8_t>(v >> shift));
+  };
+  put(static_cast<uint32_t>(mesh.positions.size()));
+  put(static_cast<uint32_t>(mesh.triangles.size()));
+  for (const Vec3i& p : mesh.positions)
+    for (int32_t c : p)
+      put(static_cast<uint32_t>(c));
+  for (const Triangle& t : mesh.triangles)
+    for (uint32_t v : t)
+      put(v);
+  Md5 md5;
+  md5.update(bytes.data(), bytes.size());
+  return md5.finish();
+}
+
+std::string geometryHashLine(int frame, const IntMesh& mesh) {
+  return "MD5 frame=" + std::to_string(frame) + " geometry=" + toHex(geometryDigest(mesh));
+}
+
+}  // namespace tdvo

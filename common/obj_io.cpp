@@ -1,0 +1,156 @@
+#include "common/obj_io.h"
+
+#include <charconv>
+#include <cstring>
+#include <string_view>
+
+#include "common/error.h"
+#include "common/file_io.h"
+
+namespace tdvo {
+
+namespace {
+
+bool isSpace(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+// Splits a line into whitespace-separated tokens (no allocation beyond the vector).
+void tokenize(std::string_view line, std::vector<std::string_view>& tokens) {
+  tokens.clear();
+  size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && isSpace(line[i]))
+      ++i;
+    size_t start = i;
+    while (i < line.size() && !isSpace(line[i]))
+      ++i;
+    if (i > start) tokens.push_back(line.substr(start, i - start));
+  }
+}
+
+class ObjParser {
+ public:
+  explicit ObjParser(const std::string& name) : name_(name) {}
+
+  Mesh parse(std::string_view text) {
+    std::vector<std::string_view> tokens;
+    std::vector<uint32_t> corners;
+    size_t pos = 0;
+    while (pos < text.size()) {
+      size_t end = text.find('\n', pos);
+      if (end == std::string_view::npos) end = text.size();
+      ++lineNumber_;
+      std::string_view line = text.substr(pos, end - pos);
+      pos = end + 1;
+      size_t hash = line.find('#');
+      if (hash != std::string_view::npos) line = line.substr(0, hash);
+      tokenize(line, tokens);
+      if (tokens.empty()) continue;
+      const std::string_view keyword = tokens[0];
+      if (keyword == "v") {
+        if (tokens.size() < 4) fail("vertex needs three coordinates");
+        // Extra values (w, or per-vertex colours) are allowed and ignored.
+        mesh_.positions.push_back({number(tokens[1]), number(tokens[2]), number(tokens[3])});
+      } else if (keyword == "f") {
+        if (tokens.size() < 4) fail("face needs at least three corners");
+        corners.clear();
+        for (size_t i = 1; i < tokens.size(); ++i)
+          corners.push_back(index(tokens[i]));
+        for (size_t i = 1; i + 1 < corners.size(); ++i)
+          mesh_.triangles.push_back({corners[0], corners[i], corners[i + 1]});
+      } else if (keyword == "vt" || keyword == "vn" || keyword == "vp" || keyword == "o" ||
+                 keyword == "g" || keyword == "s" || keyword == "mtllib" || keyword == "usemtl") {
+        // Not geometry 3DVO codes.
+      } else {
+        fail("unsupported statement '" + std::string(keyword) + "'");
+      }
+    }
+    // Indices may refer to vertices defined later in the file, so they are checked at the end.
+    for (size_t t = 0; t < mesh_.triangles.size(); ++t)
+      for (uint32_t v : mesh_.triangles[t])
+        if (v >= mesh_.positions.size())
+          throw Error(name_ + ": face " + std::to_string(t + 1) + " refers to vertex " +
+                      std::to_string(v + 1) + " but the file has only " +
+                      std::to_string(mesh_.positions.size()) + " vertices");
+    if (mesh_.positions.empty()) throw Error(name_ + ": no vertices");
+    if (mesh_.triangles.empty()) throw Error(name_ + ": no faces");
+    return std::move(mesh_);
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error(name_ + ":" + std::to_string(lineNumber_) + ": " + what);
+  }
+
+  double number(std::string_view token) const {
+    double value = 0;
+    auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    if (ec != std::errc() || ptr != token.data() + token.size())
+      fail("bad number '" + std::string(token) + "'");
+    if (!(value == value) || value > 1e300 || value < -1e300)
+      fail("non-finite number '" + std::string(token) + "'");
+    return value;
+  }
+
+  uint32_t index(std::string_view token) const {
+    std::string_view first = token.substr(0, token.find('/'));
+    long long value = 0;
+    auto [ptr, ec] = std::from_chars(first.data(), first.data() + first.size(), value);
+    if (ec != std::errc() || ptr != first.data() + first.size() || value == 0)
+      fail("bad vertex index '" + std::string(token) + "'");
+    // Negative indices count back from the last vertex read so far.
+    if (value < 0) value += static_cast<long long>(mesh_.positions.size()) + 1;
+    if (value < 1 || value > 0xFFFFFFFFLL)
+      fail("vertex index '" + std::string(token) + "' out of range");
+    return static_cast<uint32_t>(value - 1);
+  }
+
+  const std::string& name_;
+  size_t lineNumber_ = 0;
+  Mesh mesh_;
+};
+
+void appendNumber(std::string& out, double value) {
+  char buffer[32];
+  auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  out.append(buffer, result.ptr);
+}
+
+}  // namespace
+
+Mesh parseObj(const std::string& text, const std::string& name) {
+  return ObjParser(name).parse(text);
+}
+
+Mesh readObj(const std::string& path) {
+  return parseObj(readFileMaybeGz(path), path);
+}
+
+std::string formatObj(const Mesh& mesh) {
+  std::string out;
+  out.reserve(mesh.positions.size() * 40 + mesh.triangles.size() * 24);
+  for (const Vec3d& p : mesh.positions) {
+    out += 'v';
+    for (double c : p) {
+      out += ' ';
+      appendNumber(out, c);
+    }
+    out += '\n';
+  }
+  for (const Triangle& t : mesh.triangles) {
+    out += 'f';
+    for (uint32_t v : t) {
+      out += ' ';
+      out += std::to_string(v + 1);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+void writeObj(const std::string& path, const Mesh& mesh) {
+  writeFileAtomic(path, formatObj(mesh));
+}
+
+}  // namespace tdvo

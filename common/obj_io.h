@@ -1,0 +1,28 @@
+// Wavefront OBJ reading and writing (v and f lines).
+#pragma once
+
+#include <string>
+
+#include "common/mesh.h"
+
+namespace tdvo {
+
+// Reads an OBJ file; a name ending in .gz (or any gzip content) is decompressed on the fly.
+// Takes `v x y z` and `f a b c ...` lines (a/b/c index forms and negative indices allowed);
+// polygons with more than three corners are triangulated as a fan around their first corner.
+// Normals, texture coordinates, groups, materials and comments are ignored. Throws Error
+// naming the file and line for anything malformed (bad numbers, indices out of range,
+// faces with fewer than three corners, unknown statements) and for a mesh without faces.
+Mesh readObj(const std::string& path);
+
+// Parses OBJ text; `name` is used in error messages only.
+Mesh parseObj(const std::string& text, const std::string& name);
+
+// Writes `mesh` as OBJ text, positions in the shortest decimal form that reads back to the
+// same double. The file is written under a temporary name and renamed when complete.
+void writeObj(const std::string& path, const Mesh& mesh);
+
+// The OBJ text writeObj writes.
+std::string formatObj(const Mesh& mesh);
+
+}  // namespace tdvo

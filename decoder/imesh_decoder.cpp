@@ -1,0 +1,62 @@
+#include "decoder/imesh_decoder.h"
+
+#include <draco/compression/decode.h>
+#include <draco/mesh/mesh.h>
+
+#include "bitstream/syntax.h"
+#include "common/error.h"
+
+namespace tdvo {
+
+IntMesh decodeIMesh(const std::vector<uint8_t>& payload, int gridBits, const std::string& context) {
+  draco::DecoderBuffer buffer;
+  buffer.Init(reinterpret_cast<const char*>(payload.data()), payload.size());
+  auto type = draco::Decoder::GetEncodedGeometryType(&buffer);
+  if (!type.ok() || type.value() != draco::TRIANGULAR_MESH)
+    throw Error(context + ": im_draco_payload is not a Draco triangle mesh");
+  draco::Decoder decoder;
+  auto result = decoder.DecodeMeshFromBuffer(&buffer);
+  if (!result.ok())
+    throw Error(context +
+                ": Draco cannot decode im_draco_payload: " + result.status().error_msg_string());
+  std::unique_ptr<draco::Mesh> dm = std::move(result).value();
+
+  const uint32_t numPoints = dm->num_points();
+  const uint32_t numFaces = dm->num_faces();
+  if (numPoints == 0 || numPoints > kMaxVertices)
+    throw Error(context + ": I mesh has " + std::to_string(numPoints) + " vertices (allowed 1.." +
+                std::to_string(kMaxVertices) + ")");
+  if (numFaces == 0 || numFaces > kMaxTriangles)
+    throw Error(context + ": I mesh has " + std::to_string(numFaces) + " triangles (allowed 1.." +
+                std::to_string(kMaxTriangles) + ")");
+  const draco::PointAttribute* position = dm->GetNamedAttribute(draco::GeometryAttribute::POSITION);
+  if (!position || position->data_type() != draco::DT_INT32 || position->num_components() != 3)
+    throw Error(context + ": I mesh has no 3-component int32 POSITION attribute");
+
+  IntMesh mesh;
+  mesh.positions.resize(numPoints);
+  const int32_t maxCoordinate = (int32_t{1} << gridBits) - 1;
+  for (uint32_t i = 0; i < numPoints; ++i) {
+    Vec3i& p = mesh.positions[i];
+    if (!position->ConvertValue<int32_t>(position->mapped_index(draco::PointIndex(i)), 3, p.data()))
+      throw Error(context + ": cannot read position of vertex " + std::to_string(i));
+    for (int32_t c : p)
+      if (c < 0 || c > maxCoordinate)
+        throw Error(context + ": vertex " + std::to_string(i) + " coordinate " + std::to_string(c) +
+                    " outside the grid [0, " + std::to_string(maxCoordinate) + "]");
+  }
+  mesh.triangles.resize(numFaces);
+  for (uint32_t f = 0; f < numFaces; ++f) {
+    const draco::Mesh::Face& face = dm->face(draco::FaceIndex(f));
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = face[k].value();
+      if (v >= numPoints)
+        throw Error(context + ": triangle " + std::to_string(f) + " refers to vertex " +
+                    std::to_string(v) + " of " + std::to_string(numPoints));
+      mesh.triangles[f][k] = v;
+    }
+  }
+  return mesh;
+}
+
+}  // namespace tdvo

@@ -1,0 +1,120 @@
+#include "encoder/imesh_encoder.h"
+
+#include <draco/compression/encode.h>
+#include <draco/mesh/mesh.h>
+
+#include <stdexcept>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "common/error.h"
+#include "decoder/imesh_decoder.h"
+
+namespace tdvo {
+
+namespace {
+
+uint64_t positionKey(const Vec3i& p) {
+  // Coordinates are below 2^20, so three of them pack into 60 bits.
+  return uint64_t(uint32_t(p[0])) << 40 | uint64_t(uint32_t(p[1])) << 20 | uint64_t(uint32_t(p[2]));
+}
+
+uint64_t edgeKey(uint32_t a, uint32_t b) {
+  return uint64_t(a) << 32 | b;
+}
+
+constexpr uint32_t kUnmapped = UINT32_MAX;
+
+}  // namespace
+
+std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& decoded,
+                                         size_t* unmatchedTriangles) {
+  std::unordered_map<uint64_t, std::vector<uint32_t>> byPosition;
+  byPosition.reserve(input.positions.size());
+  for (uint32_t i = 0; i < input.positions.size(); ++i)
+    byPosition[positionKey(input.positions[i])].push_back(i);
+
+  std::vector<uint32_t> map(decoded.positions.size(), kUnmapped);
+  for (uint32_t j = 0; j < decoded.positions.size(); ++j) {
+    auto it = byPosition.find(positionKey(decoded.positions[j]));
+    if (it == byPosition.end())
+      throw std::logic_error("Draco round trip produced a position the input does not have");
+    if (it->second.size() == 1) map[j] = it->second[0];
+  }
+
+  // Directed edge a->b of an input triangle -> its third vertex.
+  std::unordered_map<uint64_t, uint32_t> thirdVertex;
+  thirdVertex.reserve(input.triangles.size() * 3);
+  for (const Triangle& t : input.triangles)
+    for (int k = 0; k < 3; ++k)
+      thirdVertex.emplace(edgeKey(t[k], t[(k + 1) % 3]), t[(k + 2) % 3]);
+
+  // Propagate through connectivity until nothing changes. Each sweep maps at least one vertex
+  // or ends the loop, and in practice a couple of sweeps suffice.
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (const Triangle& t : decoded.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t x = t[k], y = t[(k + 1) % 3], z = t[(k + 2) % 3];
+        if (map[z] != kUnmapped || map[x] == kUnmapped || map[y] == kUnmapped) continue;
+        auto it = thirdVertex.find(edgeKey(map[x], map[y]));
+        if (it == thirdVertex.end() || input.positions[it->second] != decoded.positions[z])
+          continue;
+        map[z] = it->second;
+        changed = true;
+      }
+  }
+
+  // Indistinguishable leftovers: any input vertex at the same position, unused ones first.
+  std::vector<bool> used(input.positions.size(), false);
+  for (uint32_t m : map)
+    if (m != kUnmapped) used[m] = true;
+  for (uint32_t j = 0; j < map.size(); ++j) {
+    if (map[j] != kUnmapped) continue;
+    const std::vector<uint32_t>& candidates = byPosition[positionKey(decoded.positions[j])];
+    map[j] = candidates[0];
+    for (uint32_t c : candidates)
+      if (!used[c]) {
+        map[j] = c;
+        break;
+      }
+    used[map[j]] = true;
+  }
+
+  if (unmatchedTriangles) {
+    *unmatchedTriangles = 0;
+    for (const Triangle& t : decoded.triangles) {
+      auto it = thirdVertex.find(edgeKey(map[t[0]], map[t[1]]));
+      if (it == thirdVertex.end() || it->second != map[t[2]]) ++*unmatchedTriangles;
+    }
+  }
+  return map;
+}
+
+IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed) {
+  draco::Mesh dm;
+  dm.set_num_points(static_cast<uint32_t>(mesh.positions.size()));
+  for (const Triangle& t : mesh.triangles)
+    dm.AddFace({draco::PointIndex(t[0]), draco::PointIndex(t[1]), draco::PointIndex(t[2])});
+  draco::GeometryAttribute attribute;
+  attribute.Init(draco::GeometryAttribute::POSITION, nullptr, 3, draco::DT_INT32, false,
+                 sizeof(int32_t) * 3, 0);
+  const int id = dm.AddAttribute(attribute, true, static_cast<uint32_t>(mesh.positions.size()));
+  for (uint32_t i = 0; i < mesh.positions.size(); ++i)
+    dm.attribute(id)->SetAttributeValue(draco::AttributeValueIndex(i), mesh.positions[i].data());
+
+  draco::Encoder encoder;
+  encoder.SetSpeedOptions(dracoSpeed, dracoSpeed);
+  encoder.SetEncodingMethod(draco::MESH_EDGEBREAKER_ENCODING);
+  draco::EncoderBuffer buffer;
+  const draco::Status status = encoder.EncodeMeshToBuffer(dm, &buffer);
+  if (!status.ok()) throw Error("Draco cannot encode the I mesh: " + status.error_msg_string());
+
+  IMeshEncoding out;
+  out.payload.assign(buffer.data(), buffer.data() + buffer.size());
+  out.decoded = decodeIMesh(out.payload, gridBits, "encoder's own I mesh");
+  out.inputIndex = recoverVertexOrder(mesh, out.decoded, &out.unmatchedTriangles);
+  return out;
+}
+
+}  // namespace tdvo

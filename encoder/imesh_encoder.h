@@ -1,0 +1,39 @@
+// I-mesh encoding with Draco, and recovery of the vertex order Draco's decoder produces.
+//
+// Draco's Edgebreaker coder reorders vertices (and faces). The GOM's vertex order is defined as
+// the order the *decoder* produces, so the encoder decodes its own payload (closed loop) and
+// works out, for every decoded vertex, which input vertex it came from:
+//   1. a decoded vertex whose integer position occurs once in the input maps to that vertex;
+//   2. the rest are resolved through connectivity: for a decoded triangle (x, y, z) with x and y
+//      already mapped to input vertices a and b, z maps to the third vertex of the input triangle
+//      that has the directed edge a->b, provided that vertex has z's position;
+//   3. anything still open (identical positions in identical surroundings) takes any unused
+//      input vertex at the same position: such vertices cannot be told apart, so any choice is
+//      consistent for the I mesh.
+// The mapping is then used to reorder the GOM's later frames, which are P meshes.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "common/mesh.h"
+
+namespace tdvo {
+
+struct IMeshEncoding {
+  std::vector<uint8_t> payload;      // im_draco_payload
+  IntMesh decoded;                   // what every decoder reconstructs
+  std::vector<uint32_t> inputIndex;  // decoded vertex -> input vertex
+  size_t unmatchedTriangles = 0;     // decoded triangles with no input twin (should be 0)
+};
+
+// Encodes `mesh` (grid integers, coordinates < 2^gridBits) losslessly. `dracoSpeed` is Draco's
+// encoding/decoding speed option (0 = best compression, 10 = fastest).
+IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed);
+
+// Step 1-3 above, exposed for tests: maps each vertex of `decoded` to a vertex of `input`.
+std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& decoded,
+                                         size_t* unmatchedTriangles);
+
+}  // namespace tdvo
