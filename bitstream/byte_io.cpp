@@ -84,10 +84,13 @@ uint64_t ByteReader::get(const char* name, int size) {
   return v;
 }
 
-void ByteReader::checkRange(const char* name, uint64_t v, uint64_t min, uint64_t max) const {
+void ByteReader::checkRange(const char* name, uint64_t v, uint64_t min, uint64_t max,
+                            int size) const {
+  // Named at the element's own offset (the reader has already moved past it).
   if (v < min || v > max)
-    fail(std::string(name) + " = " + std::to_string(v) + " out of range [" + std::to_string(min) +
-         ", " + std::to_string(max) + "]");
+    throw Error(context_ + ", byte " + std::to_string(base_ + pos_ - size) + ": " + name + " = " +
+                std::to_string(v) + " out of range [" + std::to_string(min) + ", " +
+                std::to_string(max) + "]");
 }
 
 void ByteReader::traceValue(const char* name, const std::string& value) {
@@ -97,19 +100,19 @@ void ByteReader::traceValue(const char* name, const std::string& value) {
 void ByteReader::u8(const char* name, uint8_t& v, uint64_t min, uint64_t max) {
   v = static_cast<uint8_t>(get(name, 1));
   traceValue(name, std::to_string(v));
-  checkRange(name, v, min, max);
+  checkRange(name, v, min, max, 1);
 }
 
 void ByteReader::u16(const char* name, uint16_t& v, uint64_t min, uint64_t max) {
   v = static_cast<uint16_t>(get(name, 2));
   traceValue(name, std::to_string(v));
-  checkRange(name, v, min, max);
+  checkRange(name, v, min, max, 2);
 }
 
 void ByteReader::u32(const char* name, uint32_t& v, uint64_t min, uint64_t max) {
   v = static_cast<uint32_t>(get(name, 4));
   traceValue(name, std::to_string(v));
-  checkRange(name, v, min, max);
+  checkRange(name, v, min, max, 4);
 }
 
 void ByteReader::f64(const char* name, double& v) {

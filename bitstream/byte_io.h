@@ -85,7 +85,7 @@ class ByteReader {
 
  private:
   uint64_t get(const char* name, int size);
-  void checkRange(const char* name, uint64_t v, uint64_t min, uint64_t max) const;
+  void checkRange(const char* name, uint64_t v, uint64_t min, uint64_t max, int size) const;
   void traceValue(const char* name, const std::string& value);
   const uint8_t* data_;
   size_t size_;

@@ -24,7 +24,8 @@ constexpr uint32_t kMaxTriangles = 1u << 25;
 
 enum class PMeshMode : uint8_t {
   kIntra = 0,  // every frame of the GOM is an I mesh
-  kD3dmc = 1,  // one I mesh, then P meshes predicted from the previous decoded frame
+  kD3dmc = 1,  // one I mesh, then P meshes (octree motion clustering, spatial prediction)
+  kAfxic = 2,  // one I mesh, then P meshes as per-vertex temporal DPCM (AFX-IC-style reference)
 };
 
 struct SequenceHeader {
@@ -59,17 +60,43 @@ void transfer(Io& io, SequenceHeader& sh) {
              "sh_grid_step must be finite and positive");
 }
 
+constexpr uint16_t kMaxMotionQuantStep = 4096;
+
 struct GomHeader {
   uint32_t gh_first_frame = 0;
   uint16_t gh_frame_count = 1;
   uint8_t gh_pmesh_mode = 0;  // PMeshMode
+  // Present unless gh_pmesh_mode is intra:
+  uint16_t gh_motion_quant_step = 1;  // residual quantiser step, grid units
+  uint8_t gh_max_octree_depth = 12;   // d3dmc only; the decoder checks <= sh_grid_bits
+  // Keyframes: offsets in the GOM, ascending, first 0 and last gh_frame_count - 1; coded as
+  // gh_num_keyframes and the gaps gh_keyframe_delta between consecutive keyframes.
+  std::vector<uint16_t> keyframes{0};
 };
 
 template <class Io>
 void transfer(Io& io, GomHeader& gh) {
   io.u32("gh_first_frame", gh.gh_first_frame, 0, kMaxFrames - 1);
   io.u16("gh_frame_count", gh.gh_frame_count, 1, kMaxGomFrames);
-  io.u8("gh_pmesh_mode", gh.gh_pmesh_mode, 0, 1);
+  io.u8("gh_pmesh_mode", gh.gh_pmesh_mode, 0, 2);
+  if (gh.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kIntra)) return;
+  io.u16("gh_motion_quant_step", gh.gh_motion_quant_step, 1, kMaxMotionQuantStep);
+  if (gh.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kD3dmc))
+    io.u8("gh_max_octree_depth", gh.gh_max_octree_depth, 0, 20);
+  uint16_t count = static_cast<uint16_t>(gh.keyframes.size());
+  const uint16_t minCount = gh.gh_frame_count == 1 ? 1 : 2;
+  io.u16("gh_num_keyframes", count, minCount, gh.gh_frame_count);
+  if (Io::kReading) gh.keyframes.assign(1, 0);
+  for (uint16_t i = 1; i < count; ++i) {
+    const uint16_t previous = gh.keyframes[i - 1];
+    // Each gap leaves room for the keyframes still to come.
+    const uint32_t maxDelta = uint32_t{gh.gh_frame_count} - 1 - previous - (count - 1 - i);
+    uint16_t delta = Io::kReading ? 0 : static_cast<uint16_t>(gh.keyframes[i] - previous);
+    io.u16("gh_keyframe_delta", delta, 1, maxDelta);
+    if (Io::kReading) gh.keyframes.push_back(static_cast<uint16_t>(previous + delta));
+  }
+  io.require(gh.keyframes.back() == gh.gh_frame_count - 1,
+             "the last keyframe must be the GOM's last frame");
 }
 
 // An I mesh: a Draco mesh whose POSITION attribute holds the grid integers.

@@ -13,8 +13,10 @@ namespace {
 uint32_t unitCrc(const uint8_t* header, const uint8_t* payload, uint32_t size) {
   uLong crc = crc32(0L, Z_NULL, 0);
   crc = crc32(crc, header, kUnitHeaderSize);
-  // zlib's length type is uInt; payloads are bounded by kMaxUnitSize, which fits.
-  crc = crc32(crc, payload, static_cast<uInt>(size));
+  // zlib's length type is uInt; payloads are bounded by kMaxUnitSize, which fits. An empty
+  // payload is skipped: crc32() with a null buffer (an empty vector's data()) returns 0 instead
+  // of the running CRC, so writer and reader would disagree.
+  if (size > 0) crc = crc32(crc, payload, static_cast<uInt>(size));
   return static_cast<uint32_t>(crc);
 }
 

@@ -66,13 +66,13 @@ class ObjParser {
         fail("unsupported statement '" + std::string(keyword) + "'");
       }
     }
-    // Indices may refer to vertices defined later in the file, so they are checked at the end.
-    for (size_t t = 0; t < mesh_.triangles.size(); ++t)
-      for (uint32_t v : mesh_.triangles[t])
-        if (v >= mesh_.positions.size())
-          throw Error(name_ + ": face " + std::to_string(t + 1) + " refers to vertex " +
-                      std::to_string(v + 1) + " but the file has only " +
-                      std::to_string(mesh_.positions.size()) + " vertices");
+    // Indices may refer to vertices defined later in the file, so they are checked at the end,
+    // against the largest index seen and the line it was on.
+    if (!mesh_.triangles.empty() && maxIndex_ >= mesh_.positions.size()) {
+      lineNumber_ = maxIndexLine_;
+      fail("vertex index " + std::to_string(maxIndex_ + 1ull) + " out of range (the file has " +
+           std::to_string(mesh_.positions.size()) + " vertices)");
+    }
     if (mesh_.positions.empty()) throw Error(name_ + ": no vertices");
     if (mesh_.triangles.empty()) throw Error(name_ + ": no faces");
     return std::move(mesh_);
@@ -93,7 +93,7 @@ class ObjParser {
     return value;
   }
 
-  uint32_t index(std::string_view token) const {
+  uint32_t index(std::string_view token) {
     std::string_view first = token.substr(0, token.find('/'));
     long long value = 0;
     auto [ptr, ec] = std::from_chars(first.data(), first.data() + first.size(), value);
@@ -103,11 +103,18 @@ class ObjParser {
     if (value < 0) value += static_cast<long long>(mesh_.positions.size()) + 1;
     if (value < 1 || value > 0xFFFFFFFFLL)
       fail("vertex index '" + std::string(token) + "' out of range");
-    return static_cast<uint32_t>(value - 1);
+    const uint32_t result = static_cast<uint32_t>(value - 1);
+    if (result > maxIndex_ || maxIndexLine_ == 0) {
+      maxIndex_ = result;
+      maxIndexLine_ = lineNumber_;
+    }
+    return result;
   }
 
   const std::string& name_;
   size_t lineNumber_ = 0;
+  uint32_t maxIndex_ = 0;    // largest 0-based vertex index in any face so far
+  size_t maxIndexLine_ = 0;  // the line where it first appeared
   Mesh mesh_;
 };
 

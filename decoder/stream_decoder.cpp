@@ -2,7 +2,9 @@
 
 #include "bitstream/units.h"
 #include "common/error.h"
+#include "common/keyframes.h"
 #include "decoder/imesh_decoder.h"
+#include "decoder/pmesh_decoder.h"
 
 namespace tdvo {
 
@@ -68,17 +70,58 @@ void StreamDecoder::decode(const FrameCallback& onFrame) {
       throw Error(gomWhere + ": GOM of " + std::to_string(gh.gh_frame_count) +
                   " frames runs past sh_frame_count " + std::to_string(sh_.sh_frame_count));
 
-    for (uint32_t k = 0; k < gh.gh_frame_count; ++k, ++nextFrame) {
-      const std::string frameWhen = "for frame " + std::to_string(nextFrame);
-      expectUnit(UnitType::kIMesh, frameWhen);
+    const PMeshMode mode = static_cast<PMeshMode>(gh.gh_pmesh_mode);
+    PMeshParams pmParams;
+    pmParams.gridBits = sh_.sh_grid_bits;
+    pmParams.quantStep = gh.gh_motion_quant_step;
+    pmParams.maxDepth = gh.gh_max_octree_depth;
+    if (mode == PMeshMode::kD3dmc && gh.gh_max_octree_depth > sh_.sh_grid_bits)
+      throw Error(gomWhere + ": gh_max_octree_depth " + std::to_string(gh.gh_max_octree_depth) +
+                  " exceeds sh_grid_bits " + std::to_string(sh_.sh_grid_bits));
+
+    auto readIMesh = [&](uint32_t frame) {
+      expectUnit(UnitType::kIMesh, "for frame " + std::to_string(frame));
       const IMeshUnit im = parseUnit<IMeshUnit>(unit, name_, trace_, "the I mesh");
       const std::string where = name_ + ": " + unit.describe();
-      if (im.im_frame != nextFrame)
+      if (im.im_frame != frame)
         throw Error(where + ": im_frame " + std::to_string(im.im_frame) + " but expected " +
-                    std::to_string(nextFrame));
-      const IntMesh mesh = decodeIMesh(im.im_draco_payload, sh_.sh_grid_bits, where);
-      onFrame(static_cast<int>(nextFrame), mesh);
+                    std::to_string(frame));
+      return decodeIMesh(im.im_draco_payload, sh_.sh_grid_bits, where);
+    };
+
+    if (mode == PMeshMode::kIntra) {
+      for (uint32_t k = 0; k < gh.gh_frame_count; ++k, ++nextFrame)
+        onFrame(static_cast<int>(nextFrame), readIMesh(nextFrame));
+      continue;
     }
+
+    IntMesh mesh = readIMesh(nextFrame);
+    const GomTopology topology =
+        mode == PMeshMode::kD3dmc ? GomTopology::build(mesh) : GomTopology();
+    onFrame(static_cast<int>(nextFrame), mesh);
+    std::vector<Vec3i> previous = mesh.positions;
+    for (size_t n = 1; n < gh.keyframes.size(); ++n) {
+      const int a = gh.keyframes[n - 1], b = gh.keyframes[n];
+      const uint32_t frame = gh.gh_first_frame + b;
+      expectUnit(UnitType::kPMesh, "for frame " + std::to_string(frame));
+      const PMeshUnit pm = parseUnit<PMeshUnit>(unit, name_, trace_, "the P mesh");
+      const std::string where = name_ + ": " + unit.describe();
+      if (pm.pm_frame != frame)
+        throw Error(where + ": pm_frame " + std::to_string(pm.pm_frame) + " but expected " +
+                    std::to_string(frame));
+      std::vector<Vec3i> key =
+          mode == PMeshMode::kD3dmc
+              ? decodePMesh(pm.pm_cabac_payload, topology, previous, pmParams, where, trace_)
+              : decodeTemporalDpcm(pm.pm_cabac_payload, previous, pmParams, where, trace_);
+      for (int f = a + 1; f < b; ++f) {
+        mesh.positions = interpolateFrame(previous, key, a, b, f);
+        onFrame(static_cast<int>(gh.gh_first_frame + f), mesh);
+      }
+      mesh.positions = key;
+      onFrame(static_cast<int>(frame), mesh);
+      previous = std::move(key);
+    }
+    nextFrame += gh.gh_frame_count;
   }
   if (units.next(unit))
     throw Error(name_ + ": " + unit.describe() + ": unit after the last frame (sh_frame_count " +

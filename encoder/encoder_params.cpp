@@ -17,9 +17,29 @@ void EncoderParams::registerOptions(OptionTable& t) {
         "bits per coordinate of the integer grid spanning the sequence's bounding box");
   t.add("GOMSize", gomSize, 1, static_cast<int>(kMaxGomFrames),
         "frames per group of meshes (GOM); each GOM starts with an I mesh");
-  t.addEnum("PMeshMode", pmeshMode, {{"intra", PMeshMode::kIntra}},
-            "coding of the frames after a GOM's first: intra = every frame an I mesh");
+  t.addEnum(
+      "PMeshMode", pmeshMode,
+      {{"d3dmc", PMeshMode::kD3dmc}, {"intra", PMeshMode::kIntra}, {"afxic", PMeshMode::kAfxic}},
+      "coding of the frames after a GOM's first: d3dmc = P meshes (octree motion "
+      "clustering, spatial prediction, CABAC); intra = every frame an I mesh; afxic = "
+      "P meshes as per-vertex temporal DPCM (AFX-IC-style reference, no clustering)");
   t.add("DracoSpeed", dracoSpeed, 0, 10, "Draco speed for I meshes: 0 = smallest, 10 = fastest");
+  t.section("P meshes (PMeshMode d3dmc)");
+  t.add("MotionQuantStep", motionQuantStep, 1, kMaxMotionQuantStep,
+        "quantiser step of motion residuals in grid units (1 = lossless on the grid)");
+  t.add("Lambda", lambda, -1, 1e12,
+        "rate-distortion trade-off J = D + Lambda * R of the octree clustering (D in squared "
+        "grid units, R in bits; 0 = smallest distortion; -1 = automatic: 0 at "
+        "MotionQuantStep 1, else 0.1 * MotionQuantStep^2)");
+  t.add("MaxOctreeDepth", maxOctreeDepth, 0, 20,
+        "deepest octree level of the motion clustering (capped at GridBits)");
+  t.section("Keyframes (PMeshMode d3dmc or afxic)");
+  t.add("KeyframeCount", keyframeCount, 0, static_cast<int>(kMaxGomFrames),
+        "keyframes per GOM, its first and last frame included (at least 2); the frames between "
+        "are linear interpolations; 0 = every frame is a keyframe");
+  t.add("KeyframeMaxError", keyframeMaxError, 0, 1e9,
+        "instead of KeyframeCount: add keyframes until no interpolated coordinate is off by "
+        "more than this many grid units; 0 = off");
   t.section("Output");
   t.add("BitstreamFile", bitstreamFile, "the .3dvo stream to write", "-o");
   t.add("ReconMeshPattern", reconMeshPattern,
@@ -27,11 +47,20 @@ void EncoderParams::registerOptions(OptionTable& t) {
         "numbers from 0)");
 }
 
+double EncoderParams::effectiveLambda() const {
+  if (lambda >= 0) return lambda;
+  return motionQuantStep == 1 ? 0.0 : kAutoLambdaFactor * motionQuantStep * motionQuantStep;
+}
+
 void EncoderParams::validate() const {
   check(!inputMeshPattern.empty(), "InputMeshPattern is not set (see --help)");
   check(!bitstreamFile.empty(), "BitstreamFile is not set (see --help)");
   checkFramePattern(inputMeshPattern, "InputMeshPattern");
   if (!reconMeshPattern.empty()) checkFramePattern(reconMeshPattern, "ReconMeshPattern");
+  check(!(keyframeCount > 0 && keyframeMaxError > 0),
+        "KeyframeCount and KeyframeMaxError exclude each other: set one of them");
+  check(pmeshMode != PMeshMode::kIntra || (keyframeCount == 0 && keyframeMaxError == 0),
+        "keyframes need P meshes: PMeshMode intra codes every frame");
 }
 
 }  // namespace tdvo

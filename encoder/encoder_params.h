@@ -16,12 +16,25 @@ struct EncoderParams {
   double frameRate = 25.0;
   // Geometry
   int gridBits = 12;
-  int gomSize = 1;
-  PMeshMode pmeshMode = PMeshMode::kIntra;
+  int gomSize = 16;
+  PMeshMode pmeshMode = PMeshMode::kD3dmc;
   int dracoSpeed = 0;
+  // P meshes
+  int motionQuantStep = 1;
+  double lambda = -1.0;  // < 0: automatic, see effectiveLambda()
+  int maxOctreeDepth = 20;
+  // Keyframes (P-mesh modes): 0 / 0 = every frame a keyframe
+  int keyframeCount = 0;
+  double keyframeMaxError = 0;
   // Output
   std::string bitstreamFile;
   std::string reconMeshPattern;
+
+  // The rate-distortion lambda the P-mesh encoder uses: Lambda when set (>= 0); otherwise 0
+  // for MotionQuantStep 1 (lossless on the grid) and kAutoLambdaFactor * MotionQuantStep^2
+  // above, so that coarser residual quantisation also means coarser clustering.
+  static constexpr double kAutoLambdaFactor = 0.1;
+  double effectiveLambda() const;
 
   // Binds every field to its cfg key (the single list of keys; docs/options.md mirrors it).
   void registerOptions(OptionTable& table);

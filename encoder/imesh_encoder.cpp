@@ -49,26 +49,43 @@ std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& de
     for (int k = 0; k < 3; ++k)
       thirdVertex.emplace(edgeKey(t[k], t[(k + 1) % 3]), t[(k + 2) % 3]);
 
-  // Propagate through connectivity until nothing changes. Each sweep maps at least one vertex
-  // or ends the loop, and in practice a couple of sweeps suffice.
-  for (bool changed = true; changed;) {
-    changed = false;
-    for (const Triangle& t : decoded.triangles)
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t x = t[k], y = t[(k + 1) % 3], z = t[(k + 2) % 3];
-        if (map[z] != kUnmapped || map[x] == kUnmapped || map[y] == kUnmapped) continue;
-        auto it = thirdVertex.find(edgeKey(map[x], map[y]));
-        if (it == thirdVertex.end() || input.positions[it->second] != decoded.positions[z])
-          continue;
-        map[z] = it->second;
-        changed = true;
-      }
-  }
-
-  // Indistinguishable leftovers: any input vertex at the same position, unused ones first.
   std::vector<bool> used(input.positions.size(), false);
   for (uint32_t m : map)
     if (m != kUnmapped) used[m] = true;
+
+  // Step 2, as a flood fill: every newly mapped vertex is queued and its triangles are tried.
+  std::vector<std::vector<uint32_t>> incident(decoded.positions.size());
+  for (uint32_t t = 0; t < decoded.triangles.size(); ++t)
+    for (uint32_t v : decoded.triangles[t])
+      incident[v].push_back(t);
+  std::vector<uint32_t> queue;
+  for (uint32_t j = 0; j < map.size(); ++j)
+    if (map[j] != kUnmapped) queue.push_back(j);
+  auto propagate = [&]() {
+    while (!queue.empty()) {
+      const uint32_t v = queue.back();
+      queue.pop_back();
+      for (uint32_t ti : incident[v]) {
+        const Triangle& t = decoded.triangles[ti];
+        for (int k = 0; k < 3; ++k) {
+          const uint32_t x = t[k], y = t[(k + 1) % 3], z = t[(k + 2) % 3];
+          if (map[z] != kUnmapped || map[x] == kUnmapped || map[y] == kUnmapped) continue;
+          auto it = thirdVertex.find(edgeKey(map[x], map[y]));
+          if (it == thirdVertex.end() || input.positions[it->second] != decoded.positions[z])
+            continue;
+          map[z] = it->second;
+          used[map[z]] = true;
+          queue.push_back(z);
+        }
+      }
+    }
+  };
+  propagate();
+
+  // Step 3: an indistinguishable leftover takes any input vertex at the same position, unused
+  // ones first, and step 2 then continues from it. Resuming the flood fill after every choice
+  // keeps a component consistent: two coincident copies of a surface map copy to copy instead
+  // of mixing vertices of both (which would tear the GOM's P meshes apart when they separate).
   for (uint32_t j = 0; j < map.size(); ++j) {
     if (map[j] != kUnmapped) continue;
     const std::vector<uint32_t>& candidates = byPosition[positionKey(decoded.positions[j])];
@@ -79,6 +96,8 @@ std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& de
         break;
       }
     used[map[j]] = true;
+    queue.push_back(j);
+    propagate();
   }
 
   if (unmatchedTriangles) {

@@ -9,7 +9,8 @@
 //      that has the directed edge a->b, provided that vertex has z's position;
 //   3. anything still open (identical positions in identical surroundings) takes any unused
 //      input vertex at the same position: such vertices cannot be told apart, so any choice is
-//      consistent for the I mesh.
+//      consistent for the I mesh. Step 2 resumes from each such choice, so that a whole
+//      component follows it (coincident copies of a surface map copy to copy).
 // The mapping is then used to reorder the GOM's later frames, which are P meshes.
 #pragma once
 

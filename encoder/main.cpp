@@ -1,5 +1,6 @@
 // 3dvo-enc: encodes an OBJ mesh sequence into a .3dvo stream.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include "common/app.h"
@@ -62,6 +63,9 @@ int main(int argc, char** argv) {
     std::printf("bits/vertex/frame   : %.4f\n", bits / static_cast<double>(coded.vertexFrames));
     std::printf("kbit/s at %g fps    : %.3f\n", params.frameRate,
                 bits / 1000.0 / (frames.size() / params.frameRate));
+    std::printf("grid error          : RMSE %.4f, max %lld (grid units, vs the quantised input)\n",
+                std::sqrt(coded.sumSquaredError / (3.0 * coded.vertexFrames)),
+                static_cast<long long>(coded.maxAbsError));
     std::printf("time                : %.3f s\n", seconds);
     return 0;
   });

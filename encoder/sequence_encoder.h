@@ -20,6 +20,10 @@ struct EncodedSequence {
   std::vector<std::vector<uint32_t>> frameInputIndex;
   uint64_t headerBytes = 0, iMeshBytes = 0, pMeshBytes = 0;
   uint64_t vertexFrames = 0;  // sum over frames of the decoded vertex count
+  // Reconstruction error against the input quantised to the grid, in grid units, over all
+  // vertex coordinates of all frames (0 and 0 when coding is lossless on the grid).
+  double sumSquaredError = 0;
+  int64_t maxAbsError = 0;
 };
 
 // The grid for a sequence: its bounding box over all frames at `bits`.

@@ -1,0 +1,93 @@
+// CABAC-coded syntax I/O: the entropy-coded counterpart of byte_io.h. Syntax code is written
+// once, as a template over CabacWriterIo / CabacReaderIo; every call names its syntax element,
+// which gives a trace (--trace) and error messages that name the element.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "common/cabac.h"
+#include "common/error.h"
+
+namespace tdvo {
+
+class CabacWriterIo {
+ public:
+  static constexpr bool kReading = false;
+  explicit CabacWriterIo(std::FILE* trace = nullptr) : trace_(trace) {}
+
+  // A regular bin; `value` is coded (0 or 1).
+  void bin(const char* name, ContextModel& ctx, unsigned& value) {
+    if (trace_) std::fprintf(trace_, "  %-32s = %u\n", name, value);
+    encoder_.encodeBin(ctx, value);
+  }
+  // A signed value as UEGk (cabac.h), |value| <= maxAbs.
+  void signedUeg(const char* name, ContextModel* ctxs, int numCtx, int k, uint32_t uCoff,
+                 int32_t& value, int32_t maxAbs) {
+    require(value >= -maxAbs && value <= maxAbs, std::string(name) + " out of range");
+    if (trace_) std::fprintf(trace_, "  %-32s = %d\n", name, value);
+    encodeSignedUEGk(encoder_, ctxs, numCtx, value, k, uCoff);
+  }
+  void require(bool condition, const std::string& what) const {
+    if (!condition) throw std::logic_error("writing: " + what);
+  }
+  // Ends the payload (terminate bin 1, flush) and returns it.
+  std::vector<uint8_t> finish() { return encoder_.finish(); }
+  uint64_t binCount() const { return encoder_.binCount(); }
+
+ private:
+  CabacEncoder encoder_;
+  std::FILE* trace_;
+};
+
+class CabacReaderIo {
+ public:
+  static constexpr bool kReading = true;
+  // `context` names the unit in error messages.
+  CabacReaderIo(const uint8_t* data, size_t size, std::string context, std::FILE* trace = nullptr)
+      : decoder_(data, size), size_(size), context_(std::move(context)), trace_(trace) {}
+
+  void bin(const char* name, ContextModel& ctx, unsigned& value) {
+    value = decoder_.decodeBin(ctx);
+    if (trace_) std::fprintf(trace_, "  %-32s = %u\n", name, value);
+  }
+  void signedUeg(const char* name, ContextModel* ctxs, int numCtx, int k, uint32_t uCoff,
+                 int32_t& value, int32_t maxAbs) {
+    try {
+      value = decodeSignedUEGk(decoder_, ctxs, numCtx, k, uCoff);
+    } catch (const Error& e) {
+      fail(std::string(name) + ": " + e.what());
+    }
+    if (trace_) std::fprintf(trace_, "  %-32s = %d\n", name, value);
+    require(value >= -maxAbs && value <= maxAbs, std::string(name) + " = " + std::to_string(value) +
+                                                     " out of range [" + std::to_string(-maxAbs) +
+                                                     ", " + std::to_string(maxAbs) + "]");
+    // A payload read past its end decodes to zeros forever; stop as soon as that happens.
+    require(!decoder_.overrun(), std::string(name) + ": payload ends early (truncated)");
+  }
+  void require(bool condition, const std::string& what) const {
+    if (!condition) fail(what);
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error(context_ + ", payload byte " + std::to_string(decoder_.bytesConsumed()) + ": " +
+                what);
+  }
+  // Reads the final terminate bin and checks that the payload was used exactly.
+  void finish() {
+    require(decoder_.decodeTerminate() == 1, "missing end of payload (terminate bin)");
+    require(!decoder_.overrun(), "payload ends early (truncated)");
+    require(decoder_.codewordEnd() == size_, std::to_string(size_ - decoder_.codewordEnd()) +
+                                                 " unexpected bytes after the payload's end");
+  }
+
+ private:
+  CabacDecoder decoder_;
+  size_t size_;
+  std::string context_;
+  std::FILE* trace_;
+};
+
+}  // namespace tdvo

@@ -1,0 +1,95 @@
+#include "encoder/keyframe_selection.h"
+
+#include <algorithm>
+#include <limits>
+#include <numeric>
+
+#include "common/keyframes.h"
+
+namespace tdvo {
+
+namespace {
+
+// Squared error and largest coordinate error of frame f interpolated between a and b.
+void interpolationError(const std::vector<std::vector<Vec3i>>& frames, int a, int b, int f,
+                        double& squared, int64_t& largest) {
+  const std::vector<Vec3i> p = interpolateFrame(frames[a], frames[b], a, b, f);
+  squared = 0;
+  largest = 0;
+  for (size_t v = 0; v < p.size(); ++v)
+    for (int c = 0; c < 3; ++c) {
+      const int64_t e = int64_t{p[v][c]} - frames[f][v][c];
+      squared += double(e) * double(e);
+      largest = std::max(largest, e < 0 ? -e : e);
+    }
+}
+
+std::vector<int> optimalCount(const std::vector<std::vector<Vec3i>>& frames, int count) {
+  const int n = static_cast<int>(frames.size());
+  // cost[a][b]: total squared error of the frames strictly between keyframes a and b.
+  std::vector<std::vector<double>> cost(n, std::vector<double>(n, 0));
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 2; b < n; ++b)
+      for (int f = a + 1; f < b; ++f) {
+        double squared;
+        int64_t largest;
+        interpolationError(frames, a, b, f, squared, largest);
+        cost[a][b] += squared;
+      }
+  // best[k][b]: least cost of k + 1 keyframes from 0 to b (b a keyframe).
+  const double kInf = std::numeric_limits<double>::infinity();
+  std::vector<std::vector<double>> best(count, std::vector<double>(n, kInf));
+  std::vector<std::vector<int>> from(count, std::vector<int>(n, -1));
+  best[0][0] = 0;
+  for (int k = 1; k < count; ++k)
+    for (int b = k; b < n; ++b)
+      for (int a = k - 1; a < b; ++a)
+        if (best[k - 1][a] + cost[a][b] < best[k][b]) {
+          best[k][b] = best[k - 1][a] + cost[a][b];
+          from[k][b] = a;
+        }
+  std::vector<int> keys;
+  for (int k = count - 1, b = n - 1; k >= 0; b = from[k][b], --k)
+    keys.push_back(b);
+  std::reverse(keys.begin(), keys.end());
+  return keys;
+}
+
+std::vector<int> greedyMaxError(const std::vector<std::vector<Vec3i>>& frames, double maxError) {
+  const int n = static_cast<int>(frames.size());
+  std::vector<int> keys = {0, n - 1};
+  for (;;) {
+    int worstFrame = -1;
+    int64_t worst = 0;
+    for (size_t i = 0; i + 1 < keys.size(); ++i)
+      for (int f = keys[i] + 1; f < keys[i + 1]; ++f) {
+        double squared;
+        int64_t largest;
+        interpolationError(frames, keys[i], keys[i + 1], f, squared, largest);
+        if (largest > worst) {
+          worst = largest;
+          worstFrame = f;
+        }
+      }
+    if (worstFrame < 0 || worst <= maxError) return keys;
+    keys.insert(std::upper_bound(keys.begin(), keys.end(), worstFrame), worstFrame);
+  }
+}
+
+}  // namespace
+
+std::vector<int> selectKeyframes(const std::vector<std::vector<Vec3i>>& frames, int keyframeCount,
+                                 double maxError) {
+  const int n = static_cast<int>(frames.size());
+  std::vector<int> all(n);
+  std::iota(all.begin(), all.end(), 0);
+  if (n <= 2) return all;
+  if (keyframeCount > 0) {
+    const int count = std::min(std::max(keyframeCount, 2), n);
+    return count == n ? all : optimalCount(frames, count);
+  }
+  if (maxError > 0) return greedyMaxError(frames, maxError);
+  return all;
+}
+
+}  // namespace tdvo

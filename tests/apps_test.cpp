@@ -1,0 +1,361 @@
+// The real apps (3dvo-enc, 3dvo-dec in TDVO_BIN_DIR) run as child processes in a temporary
+// folder: encode → decode of a generated OBJ sequence, --verify, --help, and bad input of every
+// kind, each of which must give exit code 1, exactly one "<app>: error: ..." line on stderr that
+// names the file and line (or the stream unit), and no output file.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "common/grid.h"
+#include "common/md5.h"
+#include "common/obj_io.h"
+#include "encoder/sequence_encoder.h"
+#include "tests/test_support.h"
+
+namespace tdvo {
+namespace {
+
+using test::CommandResult;
+using test::TempDir;
+
+const std::string kEncoder = std::string(TDVO_BIN_DIR) + "/3dvo-enc";
+const std::string kDecoder = std::string(TDVO_BIN_DIR) + "/3dvo-dec";
+
+// A folder holding a generated sequence as OBJ files in/001.obj ... (first frame 1).
+class AppsTest : public testing::Test {
+ protected:
+  static constexpr int kFrames = 6;
+
+  void SetUp() override {
+    frames_ = test::wobblingSphere(2, kFrames, 1.5, {0, 2, -1});  // 162 vertices
+    std::filesystem::create_directories(dir_.path() / "in");
+    for (int f = 0; f < kFrames; ++f)
+      writeObj(inputPath(f + 1), frames_[f]);
+  }
+
+  std::string inputPath(int number) const {
+    char name[32];
+    std::snprintf(name, sizeof name, "in/%03d.obj", number);
+    return dir_.file(name);
+  }
+
+  // Encoder arguments for the generated sequence; `extra` come last (and win). Intra coding by
+  // default, so that the app plumbing is tested apart from the P-mesh coder; the tests that
+  // need P meshes ask for them.
+  std::vector<std::string> encoderArgs(std::vector<std::string> extra = {}) const {
+    std::vector<std::string> args = {"--InputMeshPattern=in/%03d.obj",
+                                     "--FirstFrame=1",
+                                     "--FrameCount=" + std::to_string(kFrames),
+                                     "--GridBits=11",
+                                     "--PMeshMode=intra",
+                                     "-o",
+                                     "seq.3dvo"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  }
+
+  CommandResult encode(std::vector<std::string> extra = {}) const {
+    return test::run(dir_, kEncoder, encoderArgs(std::move(extra)));
+  }
+  CommandResult decode(std::vector<std::string> args) const {
+    return test::run(dir_, kDecoder, args);
+  }
+
+  // Every file and folder under the temporary folder, as relative paths.
+  std::vector<std::string> tree() const {
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(dir_.path()))
+      names.push_back(std::filesystem::relative(entry.path(), dir_.path()).string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+  // Runs `program` and checks the standard failure: exit 1, one error line from the app
+  // containing every `part`, and no new file anywhere (no output, no staged or temporary file;
+  // an output folder may be created, but stays empty).
+  CommandResult expectFailure(const std::string& program, const std::vector<std::string>& args,
+                              const std::vector<std::string>& parts) const {
+    const std::vector<std::string> before = tree();
+    const CommandResult r = test::run(dir_, program, args);
+    const std::string app = std::filesystem::path(program).filename().string();
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    const std::vector<std::string> errLines = test::lines(r.err);
+    EXPECT_EQ(errLines.size(), 1u) << r.err;
+    if (errLines.size() == 1) {
+      EXPECT_EQ(errLines[0].rfind(app + ": error: ", 0), 0u) << errLines[0];
+      for (const std::string& part : parts)
+        EXPECT_NE(errLines[0].find(part), std::string::npos)
+            << "'" << part << "' missing from: " << errLines[0];
+    }
+    for (const std::string& name : tree())
+      if (std::find(before.begin(), before.end(), name) == before.end()) {
+        EXPECT_TRUE(name == "out" && std::filesystem::is_directory(dir_.path() / name))
+            << "left behind: " << name;
+      }
+    return r;
+  }
+
+  // A correct stream seq.3dvo and the encoder's stdout.
+  CommandResult encodeGood() const {
+    CommandResult r = encode();
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    return r;
+  }
+
+  TempDir dir_{"apps"};
+  std::vector<Mesh> frames_;
+};
+
+TEST_F(AppsTest, EncodeDecodeMd5LinesMatch) {
+  const CommandResult enc =
+      test::run(dir_, kEncoder, encoderArgs({"--ReconMeshPattern=recon-%d.obj"}));
+  ASSERT_EQ(enc.exitCode, 0) << enc.err;
+  EXPECT_EQ(enc.err, "");
+  const std::vector<std::string> encLines = test::linesStartingWith(enc.out, "MD5 ");
+  ASSERT_EQ(encLines.size(), static_cast<size_t>(kFrames));
+  for (int f = 0; f < kFrames; ++f)
+    EXPECT_EQ(encLines[f].rfind("MD5 frame=" + std::to_string(f) + " geometry=", 0), 0u);
+  EXPECT_NE(enc.out.find("frames              : 6"), std::string::npos) << enc.out;
+
+  const CommandResult dec = decode({"-i", "seq.3dvo", "-o", "out"});
+  ASSERT_EQ(dec.exitCode, 0) << dec.err;
+  EXPECT_EQ(dec.err, "");
+  EXPECT_EQ(test::linesStartingWith(dec.out, "MD5 "), encLines);
+  EXPECT_NE(dec.out.find("frames              : 6"), std::string::npos) << dec.out;
+
+  // One OBJ per frame, identical to the encoder's reconstruction, and the MD5 lines are those
+  // of the library's encoder on the same input.
+  std::vector<std::string> expectedNames;
+  for (int f = 0; f < kFrames; ++f) {
+    char name[16];
+    std::snprintf(name, sizeof name, "%04d.obj", f);
+    expectedNames.push_back(name);
+  }
+  EXPECT_EQ(test::listFolder(dir_.path() / "out"), expectedNames);
+  std::vector<Mesh> input;
+  for (int f = 0; f < kFrames; ++f)
+    input.push_back(readObj(inputPath(f + 1)));
+  EncoderParams params;
+  params.gridBits = 11;
+  params.gomSize = 16;
+  params.pmeshMode = PMeshMode::kIntra;
+  const Grid grid = gridForSequence(input, 11);
+  std::vector<std::string> libraryLines;
+  encodeSequence(params, grid, input, {}, [&](int frame, const IntMesh& mesh) {
+    libraryLines.push_back(geometryHashLine(frame, mesh));
+  });
+  EXPECT_EQ(libraryLines, encLines);
+  for (int f = 0; f < kFrames; ++f) {
+    const std::string decoded = test::readText(dir_.file("out/" + expectedNames[f]));
+    EXPECT_EQ(decoded, test::readText(dir_.file("recon-" + std::to_string(f) + ".obj")));
+    // Decoded vertices are grid points: quantising them again changes nothing.
+    const Mesh m = parseObj(decoded, expectedNames[f]);
+    EXPECT_EQ(m.positions.size(), frames_[f].positions.size());
+    EXPECT_EQ(m.triangles.size(), frames_[f].triangles.size());
+    EXPECT_EQ(formatObj(grid.dequantise(grid.quantise(m))), decoded);
+  }
+  // Nothing else was written.
+  std::vector<std::string> expectedTop = {"in", "out", "seq.3dvo"};
+  for (int f = 0; f < kFrames; ++f)
+    expectedTop.push_back("recon-" + std::to_string(f) + ".obj");
+  std::sort(expectedTop.begin(), expectedTop.end());
+  EXPECT_EQ(test::listFolder(dir_.path()), expectedTop);
+}
+
+TEST_F(AppsTest, PMeshesAndGzipInput) {
+  for (int f = 0; f < kFrames; ++f) {
+    test::writeGz(inputPath(f + 1) + ".gz", formatObj(frames_[f]));
+    std::filesystem::remove(inputPath(f + 1));
+  }
+  const CommandResult enc =
+      encode({"--InputMeshPattern=in/%03d.obj.gz", "--GOMSize=4", "--PMeshMode=d3dmc"});
+  ASSERT_EQ(enc.exitCode, 0) << enc.err;
+  const CommandResult dec = decode({"-i", "seq.3dvo"});
+  ASSERT_EQ(dec.exitCode, 0) << dec.err;
+  const std::vector<std::string> lines = test::linesStartingWith(enc.out, "MD5 ");
+  EXPECT_EQ(lines.size(), static_cast<size_t>(kFrames));
+  EXPECT_EQ(test::linesStartingWith(dec.out, "MD5 "), lines);
+}
+
+TEST_F(AppsTest, VerifyPassesAndFailsOnAnEditedLog) {
+  const CommandResult enc = encodeGood();
+  test::writeText(dir_.file("enc.log"), enc.out);
+  const CommandResult ok = decode({"-i", "seq.3dvo", "-o", "out", "--verify", "enc.log"});
+  EXPECT_EQ(ok.exitCode, 0) << ok.err;
+  EXPECT_NE(ok.out.find("verify              : all 6 frames match"), std::string::npos) << ok.out;
+  EXPECT_EQ(test::listFolder(dir_.path() / "out").size(), static_cast<size_t>(kFrames));
+  std::filesystem::remove_all(dir_.path() / "out");
+
+  // One hex digit of frame 3 changed.
+  std::string edited = enc.out;
+  const size_t at = edited.find("MD5 frame=3 geometry=");
+  ASSERT_NE(at, std::string::npos);
+  char& digit = edited[at + std::string("MD5 frame=3 geometry=").size() + 5];
+  digit = digit == '0' ? '1' : '0';
+  test::writeText(dir_.file("edited.log"), edited);
+  expectFailure(kDecoder, {"-i", "seq.3dvo", "-o", "out", "--verify", "edited.log"},
+                {"edited.log: frame 3 differs: expected 'MD5 frame=3 geometry="});
+
+  // A log with a frame missing.
+  std::string shorter = enc.out;
+  shorter.erase(shorter.find("MD5 frame=5"));
+  test::writeText(dir_.file("short.log"), shorter);
+  expectFailure(kDecoder, {"-i", "seq.3dvo", "-o", "out", "--verify", "short.log"},
+                {"short.log: has no line for frame 5"});
+
+  // A log with one frame too many.
+  test::writeText(dir_.file("long.log"),
+                  enc.out + "MD5 frame=6 geometry=00000000000000000000000000000000\n");
+  expectFailure(kDecoder, {"-i", "seq.3dvo", "-o", "out", "--verify", "long.log"},
+                {"long.log: has 7 MD5 lines, decoded 6 frames"});
+}
+
+TEST_F(AppsTest, HelpListsTheKeys) {
+  const CommandResult enc = test::run(dir_, kEncoder, {"--help"});
+  EXPECT_EQ(enc.exitCode, 0);
+  EXPECT_EQ(enc.err, "");
+  for (const char* key : {"InputMeshPattern", "FirstFrame", "FrameCount", "FrameRate", "GridBits",
+                          "GOMSize", "BitstreamFile", "ReconMeshPattern"})
+    EXPECT_NE(enc.out.find(std::string("\n  ") + key + " "), std::string::npos) << key;
+  EXPECT_NE(enc.out.find("default: 12"), std::string::npos);
+  const CommandResult dec = test::run(dir_, kDecoder, {"-h"});
+  EXPECT_EQ(dec.exitCode, 0);
+  EXPECT_EQ(dec.err, "");
+  for (const char* key : {"BitstreamFile (-i)", "OutputDir (-o)", "VerifyMd5 (--verify)"})
+    EXPECT_NE(dec.out.find(key), std::string::npos) << key;
+  EXPECT_EQ(test::listFolder(dir_.path()), std::vector<std::string>{"in"});
+}
+
+// ---- Encoder: bad input ----
+
+TEST_F(AppsTest, NoArguments) {
+  expectFailure(kEncoder, {}, {"InputMeshPattern is not set"});
+  expectFailure(kDecoder, {}, {"no stream given"});
+  expectFailure(kEncoder, {"--NoSuchKey=1"}, {"unknown key 'NoSuchKey'"});
+  expectFailure(kDecoder, {"stray"}, {"unknown argument 'stray'"});
+}
+
+TEST_F(AppsTest, MissingInputFile) {
+  std::filesystem::remove(inputPath(4));
+  expectFailure(kEncoder, encoderArgs(), {"in/004.obj", "cannot open"});
+}
+
+TEST_F(AppsTest, MalformedObjNamesTheLine) {
+  std::string text = formatObj(frames_[2]);
+  const size_t line7 = [&] {
+    size_t pos = 0;
+    for (int i = 0; i < 6; ++i)
+      pos = text.find('\n', pos) + 1;
+    return pos;
+  }();
+  text.insert(line7, "v 1 2 three\n");
+  test::writeText(inputPath(3), text);
+  expectFailure(kEncoder, encoderArgs(), {"in/003.obj:7: bad number 'three'"});
+}
+
+TEST_F(AppsTest, VertexCountDiffersInsideAGom) {
+  // The last frame (number 6) gets one more vertex, unreferenced, in front.
+  Mesh shifted = frames_[5];
+  shifted.positions.insert(shifted.positions.begin(), Vec3d{0, 0, 0});
+  for (Triangle& t : shifted.triangles)
+    for (uint32_t& v : t)
+      ++v;
+  writeObj(inputPath(6), shifted);
+  // P meshes need the GOM's vertices: an error naming both frames.
+  expectFailure(kEncoder, encoderArgs({"--PMeshMode=d3dmc", "--GOMSize=6"}),
+                {"in/006.obj: 163 vertices, but the GOM's first frame (in/001.obj) has 162"});
+  // Intra coding, or a GOM starting at that frame, takes it.
+  const CommandResult intra = encode({"--PMeshMode=intra", "--GOMSize=6"});
+  EXPECT_EQ(intra.exitCode, 0) << intra.err;
+  const CommandResult split = encode({"--PMeshMode=d3dmc", "--GOMSize=5"});
+  EXPECT_EQ(split.exitCode, 0) << split.err;
+}
+
+TEST_F(AppsTest, ConnectivityDiffersInsideAGom) {
+  Mesh flipped = frames_[1];
+  std::swap(flipped.triangles[10][1], flipped.triangles[10][2]);
+  writeObj(inputPath(2), flipped);
+  expectFailure(kEncoder, encoderArgs({"--PMeshMode=d3dmc", "--GOMSize=6"}),
+                {"in/002.obj", "connectivity differs"});
+}
+
+TEST_F(AppsTest, EmptyMesh) {
+  test::writeText(inputPath(2), "");
+  expectFailure(kEncoder, encoderArgs(), {"in/002.obj: no vertices"});
+  test::writeText(inputPath(2), "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+  expectFailure(kEncoder, encoderArgs(), {"in/002.obj: no faces"});
+}
+
+TEST_F(AppsTest, OutOfRangeCfgValue) {
+  test::writeText(dir_.file("bad.cfg"), "# grid\nGridBits : 30\n");
+  expectFailure(kEncoder, encoderArgs({"-c", "bad.cfg"}),
+                {"bad.cfg:2: GridBits: value 30 out of range [8, 20]"});
+  expectFailure(kEncoder, encoderArgs({"--GOMSize=0"}),
+                {"--GOMSize=0", "GOMSize: value 0 out of range"});
+  expectFailure(kEncoder, encoderArgs({"--FrameRate=-3"}), {"FrameRate: value -3 out of range"});
+}
+
+TEST_F(AppsTest, UnknownCfgKey) {
+  test::writeText(dir_.file("bad.cfg"), "GridBits : 10\n\nGridBitz : 10\n");
+  expectFailure(kEncoder, encoderArgs({"-c", "bad.cfg"}), {"bad.cfg:3: unknown key 'GridBitz'"});
+}
+
+TEST_F(AppsTest, BadFramePattern) {
+  expectFailure(kEncoder, encoderArgs({"--InputMeshPattern=in/frame.obj"}),
+                {"InputMeshPattern", "in/frame.obj"});
+}
+
+TEST_F(AppsTest, UnwritableStreamLeavesNoReconstruction) {
+  expectFailure(kEncoder,
+                encoderArgs({"-o", "no-such-folder/seq.3dvo", "--ReconMeshPattern=recon-%d.obj"}),
+                {"no-such-folder/seq.3dvo"});
+}
+
+// ---- Decoder: bad streams ----
+
+TEST_F(AppsTest, MissingStream) {
+  expectFailure(kDecoder, {"-i", "nothing.3dvo", "-o", "out"}, {"nothing.3dvo", "cannot open"});
+}
+
+TEST_F(AppsTest, NotA3dvoStream) {
+  test::writeText(dir_.file("seq.3dvo"), test::readText(inputPath(1)));
+  expectFailure(kDecoder, {"-i", "seq.3dvo", "-o", "out"}, {"seq.3dvo: not a 3DVO stream"});
+}
+
+TEST_F(AppsTest, TruncatedStream) {
+  encodeGood();
+  const std::vector<uint8_t> stream = test::readBytes(dir_.file("seq.3dvo"));
+  for (size_t length : {size_t{0}, size_t{3}, size_t{10}, stream.size() / 2, stream.size() - 1}) {
+    SCOPED_TRACE(length);
+    test::writeBytes(dir_.file("cut.3dvo"),
+                     std::vector<uint8_t>(stream.begin(), stream.begin() + length));
+    const CommandResult r =
+        expectFailure(kDecoder, {"-i", "cut.3dvo", "-o", "out"},
+                      {"cut.3dvo: ", length < 4 ? "not a 3DVO stream" : "truncated"});
+    if (length >= 10) {
+      EXPECT_NE(r.err.find("unit "), std::string::npos) << r.err;
+    }
+    // The frames decoded before the cut were printed, but none was written.
+    std::filesystem::remove(dir_.file("cut.3dvo"));
+  }
+}
+
+TEST_F(AppsTest, FlippedByteNamesTheUnit) {
+  encodeGood();
+  const std::vector<uint8_t> stream = test::readBytes(dir_.file("seq.3dvo"));
+  for (size_t position : {size_t{4}, size_t{9}, size_t{20}, stream.size() / 3, stream.size() / 2,
+                          stream.size() - 1}) {
+    SCOPED_TRACE(position);
+    std::vector<uint8_t> bad = stream;
+    bad[position] ^= 0x20;
+    test::writeBytes(dir_.file("bad.3dvo"), bad);
+    expectFailure(kDecoder, {"-i", "bad.3dvo", "-o", "out"}, {"bad.3dvo: unit "});
+    std::filesystem::remove(dir_.file("bad.3dvo"));
+  }
+}
+
+}  // namespace
+}  // namespace tdvo

@@ -1,0 +1,505 @@
+// Geometry metrics (common/metrics.h) against hand-computed cases, and the 3dvo-metrics app.
+#include "common/metrics.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "common/error.h"
+#include "common/grid.h"
+#include "common/obj_io.h"
+#include "test_support.h"
+
+namespace tdvo {
+namespace {
+
+constexpr double kEps = 1e-12;
+
+// The unit square in the z = `z` plane as two triangles (vertices 0 (0,0) 1 (1,0) 2 (0,1)
+// 3 (1,1)); both triangles use vertex 3.
+Mesh unitSquare(double z = 0) {
+  Mesh m;
+  m.positions = {{0, 0, z}, {1, 0, z}, {0, 1, z}, {1, 1, z}};
+  m.triangles = {{0, 1, 3}, {0, 3, 2}};
+  return m;
+}
+
+// An n x n grid of vertices over [0, size]^2 in the z = `z` plane.
+Mesh planeGrid(int n, double size, double z) {
+  Mesh m;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x)
+      m.positions.push_back({size * x / (n - 1), size * y / (n - 1), z});
+  for (int y = 0; y + 1 < n; ++y)
+    for (int x = 0; x + 1 < n; ++x) {
+      const uint32_t a = static_cast<uint32_t>(y * n + x), b = a + 1;
+      const uint32_t c = a + static_cast<uint32_t>(n), d = c + 1;
+      m.triangles.push_back({a, b, d});
+      m.triangles.push_back({a, d, c});
+    }
+  return m;
+}
+
+// A fixed pseudo-random permutation of 0..n-1 (LCG-driven Fisher-Yates).
+std::vector<uint32_t> shuffled(size_t n, uint64_t seed) {
+  std::vector<uint32_t> p(n);
+  std::iota(p.begin(), p.end(), 0u);
+  for (size_t i = n - 1; i > 0; --i) {
+    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+    std::swap(p[i], p[(seed >> 33) % (i + 1)]);
+  }
+  return p;
+}
+
+// `mesh` with its vertices renumbered: new vertex i is old vertex order[i]; same surface.
+Mesh renumbered(const Mesh& mesh, const std::vector<uint32_t>& order) {
+  Mesh out;
+  std::vector<uint32_t> newIndex(order.size());
+  for (size_t i = 0; i < order.size(); ++i) {
+    out.positions.push_back(mesh.positions[order[i]]);
+    newIndex[order[i]] = static_cast<uint32_t>(i);
+  }
+  for (const Triangle& t : mesh.triangles)
+    out.triangles.push_back({newIndex[t[0]], newIndex[t[1]], newIndex[t[2]]});
+  return out;
+}
+
+// ---- point to triangle ----
+
+TEST(PointTriangleDistance, RegionsOfTheTriangle) {
+  const Vec3d a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0};
+  EXPECT_NEAR(pointTriangleSquaredDistance({0.25, 0.25, 2}, a, b, c), 4.0, kEps);   // face
+  EXPECT_NEAR(pointTriangleSquaredDistance({0.25, 0.25, -3}, a, b, c), 9.0, kEps);  // below
+  EXPECT_NEAR(pointTriangleSquaredDistance({0.2, 0.3, 0}, a, b, c), 0.0, kEps);     // inside
+  EXPECT_NEAR(pointTriangleSquaredDistance({-1, -1, 0}, a, b, c), 2.0, kEps);       // vertex a
+  EXPECT_NEAR(pointTriangleSquaredDistance({3, -4, 0}, a, b, c), 4 + 16, kEps);     // vertex b
+  EXPECT_NEAR(pointTriangleSquaredDistance({0.5, -2, 1}, a, b, c), 5.0, kEps);      // edge ab
+  // Edge bc (x + y = 1): the point (1, 1, 0) is 1/sqrt(2) from it.
+  EXPECT_NEAR(pointTriangleSquaredDistance({1, 1, 0}, a, b, c), 0.5, kEps);
+}
+
+TEST(PointTriangleDistance, DegenerateTriangleIsItsEdges) {
+  // Collinear corners: the closest point is on the segment from (0,0,0) to (2,0,0).
+  EXPECT_NEAR(pointTriangleSquaredDistance({1, 1, 0}, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}), 1.0, kEps);
+  EXPECT_NEAR(pointTriangleSquaredDistance({3, 0, 0}, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}), 1.0, kEps);
+  // All three corners at one point.
+  EXPECT_NEAR(pointTriangleSquaredDistance({0, 3, 4}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}), 25.0, kEps);
+}
+
+// ---- the spatial index ----
+
+TEST(SurfaceIndex, MatchesBruteForceOnCurvedMeshes) {
+  const std::vector<Mesh> meshes = test::wobblingSphere(3, 2);  // 642 vertices, 1280 triangles
+  const SurfaceIndex index(meshes[0]);
+  EXPECT_EQ(index.triangleCount(), meshes[0].triangles.size());
+  // Query points: the other frame's vertices, scaled copies inside and outside the sphere.
+  std::vector<Vec3d> queries;
+  for (double scale : {0.3, 0.97, 1.0, 1.4, 3.0})
+    for (const Vec3d& p : meshes[1].positions)
+      queries.push_back({scale * p[0], scale * p[1], scale * p[2]});
+  for (const Vec3d& q : queries) {
+    double brute = std::numeric_limits<double>::infinity();
+    for (const Triangle& t : meshes[0].triangles)
+      brute = std::min(brute, pointTriangleSquaredDistance(q, meshes[0].positions[t[0]],
+                                                           meshes[0].positions[t[1]],
+                                                           meshes[0].positions[t[2]]));
+    ASSERT_EQ(index.squaredDistance(q), brute);
+  }
+}
+
+TEST(SurfaceIndex, RejectsMeshesWithoutTrianglesOrWithBadIndices) {
+  Mesh empty;
+  empty.positions = {{0, 0, 0}};
+  EXPECT_THROW(SurfaceIndex{empty}, Error);
+  Mesh bad = unitSquare();
+  bad.triangles.push_back({0, 1, 4});
+  EXPECT_THROW(SurfaceIndex{bad}, Error);
+}
+
+// ---- Hausdorff ----
+
+TEST(SurfaceDistance, IdenticalMeshesAreAtZero) {
+  const Mesh m = test::wobblingSphere(2, 1)[0];
+  const SurfaceDistance d = surfaceDistance(m, m);
+  EXPECT_EQ(d.hausdorff(), 0.0);
+  EXPECT_EQ(d.mean(), 0.0);
+  EXPECT_EQ(d.referenceToTest.samples, m.positions.size());
+  EXPECT_EQ(d.testToReference.samples, m.positions.size());
+  EXPECT_EQ(vertexRmse(m.positions, m.positions), 0.0);
+}
+
+TEST(SurfaceDistance, PlaneAgainstOffsetPlaneIsTheOffset) {
+  // Different tessellations of the same square, 0.25 apart: every vertex of each projects
+  // inside the other, so every sample is exactly 0.25 away.
+  const Mesh reference = planeGrid(11, 1.0, 0.0);
+  const Mesh test = planeGrid(4, 1.0, 0.25);
+  const SurfaceDistance d = surfaceDistance(reference, test);
+  EXPECT_NEAR(d.hausdorff(), 0.25, kEps);
+  EXPECT_NEAR(d.mean(), 0.25, kEps);
+  EXPECT_NEAR(d.referenceToTest.max, 0.25, kEps);
+  EXPECT_NEAR(d.referenceToTest.mean, 0.25, kEps);
+  EXPECT_NEAR(d.testToReference.max, 0.25, kEps);
+  EXPECT_NEAR(d.testToReference.mean, 0.25, kEps);
+  EXPECT_EQ(d.referenceToTest.samples, 121u);
+  EXPECT_EQ(d.testToReference.samples, 16u);
+}
+
+TEST(SurfaceDistance, OneVertexMovedByAKnownOffset) {
+  // Vertex 3 of the unit square lifted by h = 0.75. Test -> reference: that vertex is 0.75 above
+  // the flat square, the others on it: max 0.75, mean 0.75 / 4. Reference -> test: the flat
+  // corner (1,1,0) is nearest to the edge from (1,0,0) to (1,1,h) of both lifted triangles, at
+  // h / sqrt(1 + h^2) = 0.6; the other corners lie on the lifted surface: max 0.6, mean 0.15.
+  const Mesh reference = unitSquare();
+  Mesh test = unitSquare();
+  test.positions[3][2] = 0.75;
+  const SurfaceDistance d = surfaceDistance(reference, test);
+  EXPECT_NEAR(d.testToReference.max, 0.75, kEps);
+  EXPECT_NEAR(d.testToReference.mean, 0.1875, kEps);
+  EXPECT_NEAR(d.referenceToTest.max, 0.6, kEps);
+  EXPECT_NEAR(d.referenceToTest.mean, 0.15, kEps);
+  EXPECT_NEAR(d.hausdorff(), 0.75, kEps);
+  EXPECT_NEAR(d.mean(), 0.1875, kEps);
+  // RMSE = sqrt(0.75^2 / 4) = 0.375.
+  EXPECT_NEAR(vertexRmse(reference.positions, test.positions), 0.375, kEps);
+}
+
+TEST(SurfaceDistance, AsymmetricWhenOneSurfaceCoversPartOfTheOther) {
+  // The test is the corner [0, 0.1]^2 of the reference square: every test vertex lies on the
+  // reference (test -> reference = 0), while the reference corners are 0, 0.9, 0.9 and
+  // 0.9 sqrt(2) from the small square.
+  const Mesh reference = unitSquare();
+  Mesh test = unitSquare();
+  for (Vec3d& p : test.positions)
+    p = {0.1 * p[0], 0.1 * p[1], 0};
+  const SurfaceDistance d = surfaceDistance(reference, test);
+  EXPECT_NEAR(d.testToReference.max, 0.0, kEps);
+  EXPECT_NEAR(d.testToReference.mean, 0.0, kEps);
+  EXPECT_NEAR(d.referenceToTest.max, 0.9 * std::sqrt(2.0), kEps);
+  EXPECT_NEAR(d.referenceToTest.mean, (0.9 + 0.9 + 0.9 * std::sqrt(2.0)) / 4, kEps);
+  EXPECT_NEAR(d.hausdorff(), 0.9 * std::sqrt(2.0), kEps);
+  // Swapping the roles swaps the directions.
+  const SurfaceDistance swapped = surfaceDistance(test, reference);
+  EXPECT_EQ(swapped.referenceToTest.max, d.testToReference.max);
+  EXPECT_EQ(swapped.testToReference.max, d.referenceToTest.max);
+  EXPECT_EQ(swapped.testToReference.mean, d.referenceToTest.mean);
+}
+
+TEST(SurfaceDistance, VerticesOutsideEveryTriangleAreNotSampled) {
+  Mesh reference = unitSquare();
+  Mesh test = unitSquare(0.5);
+  test.positions.push_back({100, 100, 100});  // referenced by no triangle
+  const SurfaceDistance d = surfaceDistance(reference, test);
+  EXPECT_EQ(d.testToReference.samples, 4u);
+  EXPECT_NEAR(d.testToReference.max, 0.5, kEps);
+  EXPECT_NEAR(d.referenceToTest.max, 0.5, kEps);
+}
+
+// ---- D_A, KG, RMSE ----
+
+// Two frames of two vertices. Reference frame 0: (0,0,0) (2,0,0), centroid (1,0,0), spread
+// 1 + 1 = 2; frame 1: (0,0,0) (0,4,0), centroid (0,2,0), spread 4 + 4 = 8. Errors: frame 0
+// vertex 0 by (3,4,0) (length 5), frame 1 vertex 1 by (0,0,1) (length 1), the others 0.
+struct TinySequence {
+  std::vector<std::vector<Vec3d>> reference{{{0, 0, 0}, {2, 0, 0}}, {{0, 0, 0}, {0, 4, 0}}};
+  std::vector<std::vector<Vec3d>> test{{{3, 4, 0}, {2, 0, 0}}, {{0, 0, 0}, {0, 4, 1}}};
+};
+
+TEST(SequenceErrors, TemporalAverageErrorByHand) {
+  const TinySequence s;
+  // D_A = (5 + 0 + 0 + 1) / (2 frames * 2 vertices) = 1.5
+  EXPECT_NEAR(temporalAverageError(s.reference, s.test), 1.5, kEps);
+}
+
+TEST(SequenceErrors, KgErrorByHand) {
+  const TinySequence s;
+  // KG = 100 sqrt(25 + 1) / sqrt(2 + 8)
+  EXPECT_NEAR(kgError(s.reference, s.test), 100 * std::sqrt(26.0 / 10.0), 1e-10);
+  SequenceErrorAccumulator a;
+  a.addFrame(s.reference[0], s.test[0]);
+  a.addFrame(s.reference[1], s.test[1]);
+  EXPECT_EQ(a.frameCount(), 2);
+  EXPECT_EQ(a.vertexCount(), 2u);
+  EXPECT_NEAR(a.vertexRmse(), std::sqrt(26.0 / 4), kEps);
+}
+
+TEST(SequenceErrors, KgUsesEachFramesOwnCentroid) {
+  // Moving a whole frame (reference and test alike) changes neither the errors nor the spread
+  // about that frame's centroid; a centroid over all frames would see the move.
+  TinySequence moved;
+  for (auto* frames : {&moved.reference, &moved.test})
+    for (Vec3d& p : (*frames)[1])
+      p[0] += 100;
+  const TinySequence s;
+  EXPECT_NEAR(kgError(moved.reference, moved.test), kgError(s.reference, s.test), 1e-9);
+  EXPECT_NEAR(temporalAverageError(moved.reference, moved.test), 1.5, kEps);
+}
+
+TEST(SequenceErrors, IdenticalSequencesAreAtZero) {
+  const TinySequence s;
+  EXPECT_EQ(kgError(s.reference, s.reference), 0.0);
+  EXPECT_EQ(temporalAverageError(s.reference, s.reference), 0.0);
+}
+
+TEST(SequenceErrors, RejectsMismatchedOrDegenerateInput) {
+  SequenceErrorAccumulator a;
+  EXPECT_THROW(a.temporalAverageError(), Error);  // no frames
+  EXPECT_THROW(a.addFrame({{0, 0, 0}}, {{0, 0, 0}, {1, 0, 0}}), Error);
+  EXPECT_THROW(a.addFrame({}, {}), Error);
+  a.addFrame({{0, 0, 0}, {1, 0, 0}}, {{0, 0, 0}, {1, 0, 0}});
+  EXPECT_THROW(a.addFrame({{0, 0, 0}}, {{0, 0, 0}}), Error);  // vertex count changed
+  SequenceErrorAccumulator point;
+  point.addFrame({{1, 1, 1}, {1, 1, 1}}, {{1, 1, 2}, {1, 1, 1}});
+  EXPECT_THROW(point.kgError(), Error);  // no spread: KG undefined
+  EXPECT_THROW(temporalAverageError({{{0, 0, 0}}}, {}), Error);
+}
+
+// ---- vertex correspondence ----
+
+TEST(NearestCorrespondence, RecoversAShuffledOrder) {
+  const Mesh m = test::wobblingSphere(3, 1)[0];
+  const std::vector<uint32_t> order = shuffled(m.positions.size(), 7);
+  std::vector<Vec3d> test;
+  for (uint32_t i : order)  // test vertex i is reference vertex order[i], slightly moved
+    test.push_back({m.positions[i][0] + 1e-4, m.positions[i][1], m.positions[i][2] - 1e-4});
+  const std::vector<uint32_t> c = nearestVertexCorrespondence(m.positions, test);
+  EXPECT_EQ(c, order);
+  const std::vector<Vec3d> aligned = inReferenceOrder(test, c);
+  EXPECT_NEAR(vertexRmse(m.positions, aligned), std::sqrt(2.0) * 1e-4, 1e-12);
+  // Without it, the errors are those of unrelated vertices.
+  EXPECT_GT(vertexRmse(m.positions, test), 0.1);
+}
+
+TEST(NearestCorrespondence, SharedNearestVertexGoesToTheCloserTestVertex) {
+  const std::vector<Vec3d> reference{{0, 0, 0}, {1, 0, 0}};
+  // Both test vertices are nearest to reference 0; the closer one (distance 0.1) keeps it.
+  EXPECT_EQ(nearestVertexCorrespondence(reference, {{0.1, 0, 0}, {0.2, 0, 0}}),
+            (std::vector<uint32_t>{0, 1}));
+  EXPECT_EQ(nearestVertexCorrespondence(reference, {{0.3, 0, 0}, {0.2, 0, 0}}),
+            (std::vector<uint32_t>{1, 0}));
+}
+
+TEST(NearestCorrespondence, TiesGoToLowerIndices) {
+  // Coincident vertices on both sides: lower test index takes the lower reference index.
+  const std::vector<Vec3d> reference{{5, 0, 0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  const std::vector<Vec3d> test{{0, 0, 0}, {0, 0, 0}, {5, 0, 0}, {0, 0, 0}};
+  EXPECT_EQ(nearestVertexCorrespondence(reference, test), (std::vector<uint32_t>{1, 2, 0, 3}));
+}
+
+TEST(NearestCorrespondence, RejectsMismatchedInput) {
+  EXPECT_THROW(nearestVertexCorrespondence({{0, 0, 0}}, {{0, 0, 0}, {1, 1, 1}}), Error);
+  EXPECT_THROW(nearestVertexCorrespondence({}, {}), Error);
+  EXPECT_THROW(inReferenceOrder({{0, 0, 0}, {1, 1, 1}}, {0, 0}), Error);
+  EXPECT_THROW(inReferenceOrder({{0, 0, 0}, {1, 1, 1}}, {0, 2}), Error);
+  EXPECT_THROW(inReferenceOrder({{0, 0, 0}}, {0, 1}), Error);
+}
+
+TEST(NearestCorrespondence, QuantisedRealMeshStaysWithinHalfAGridCell) {
+  // A real mesh quantised to the 3DVO grid and shuffled, as a decoded I mesh is: the matched
+  // vertex errors must stay within the quantisation error (half a cell diagonal) except where
+  // quantisation made reference vertices indistinguishable.
+  const std::string path = std::string(TDVO_SHARED_DATA_DIR) + "/meshseq/horse-gallop/0001.obj.gz";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data not found: " << path;
+  const Mesh reference = readObj(path);
+  Vec3d lo, hi;
+  boundingBox({reference}, lo, hi);
+  const Grid grid = Grid::fromBounds(lo, hi, 12);
+  const Mesh decoded = renumbered(grid.dequantise(grid.quantise(reference)),
+                                  shuffled(reference.positions.size(), 99));
+  const std::vector<Vec3d> aligned = inReferenceOrder(
+      decoded.positions, nearestVertexCorrespondence(reference.positions, decoded.positions));
+  const double bound = grid.step * std::sqrt(3.0) / 2 * (1 + 1e-9);
+  size_t within = 0;
+  for (size_t i = 0; i < aligned.size(); ++i) {
+    const double dx = aligned[i][0] - reference.positions[i][0];
+    const double dy = aligned[i][1] - reference.positions[i][1];
+    const double dz = aligned[i][2] - reference.positions[i][2];
+    within += std::sqrt(dx * dx + dy * dy + dz * dz) <= bound;
+  }
+  EXPECT_EQ(within, aligned.size());
+  // And the surface distances see only the quantisation.
+  EXPECT_LE(surfaceDistance(reference, decoded).hausdorff(), bound);
+}
+
+// ---- bounding box ----
+
+TEST(BoundingBox, DiagonalOfExtendedBox) {
+  BoundingBox box;
+  EXPECT_EQ(box.diagonal(), 0.0);
+  box.extend({{0, 0, 0}, {1, 2, 0}});
+  box.extend({{0, 0, 2}});
+  EXPECT_NEAR(box.diagonal(), 3.0, kEps);  // extent (1, 2, 2): sqrt(1 + 4 + 4)
+}
+
+// ---- the 3dvo-metrics app ----
+
+const std::string kApp = std::string(TDVO_BIN_DIR) + "/3dvo-metrics";
+
+// CSV rows as cells.
+std::vector<std::vector<std::string>> readCsv(const std::string& path) {
+  std::vector<std::vector<std::string>> rows;
+  for (const std::string& line : test::lines(test::readText(path))) {
+    std::vector<std::string> cells(1);
+    for (char c : line) {
+      if (c == ',')
+        cells.emplace_back();
+      else
+        cells.back() += c;
+    }
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+size_t column(const std::vector<std::string>& header, const std::string& name) {
+  const auto it = std::find(header.begin(), header.end(), name);
+  if (it == header.end()) throw std::runtime_error("no CSV column " + name);
+  return static_cast<size_t>(it - header.begin());
+}
+
+// A reference sequence (gzip OBJ, frames numbered from 1) and a "decoded" one (plain OBJ from
+// 0) whose vertices are shuffled differently in each frame and moved by a constant offset.
+struct AppFixture {
+  test::TempDir dir{"metrics"};
+  std::vector<Mesh> reference = test::wobblingSphere(2, 3);  // 162 vertices
+  std::vector<Mesh> decoded;
+  const Vec3d offset{0.001, -0.002, 0.002};  // length 0.003
+
+  AppFixture() {
+    std::filesystem::create_directories(dir.path() / "out");
+    for (size_t f = 0; f < reference.size(); ++f) {
+      Mesh d = renumbered(reference[f], shuffled(reference[f].positions.size(), 11 + f));
+      for (Vec3d& p : d.positions)
+        for (int k = 0; k < 3; ++k)
+          p[k] += offset[k];
+      test::writeGz(dir.file("ref_" + std::to_string(f + 1) + ".obj.gz"), formatObj(reference[f]));
+      test::writeText(dir.file("out/000" + std::to_string(f) + ".obj"), formatObj(d));
+      decoded.push_back(std::move(d));
+    }
+  }
+};
+
+TEST(MetricsApp, SequenceWithNearestCorrespondenceMatchesTheLibrary) {
+  AppFixture fx;
+  const test::CommandResult r =
+      test::run(fx.dir, kApp,
+                {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t", "out/%04d.obj",
+                 "--Correspondence=nearest", "--CsvFile=m.csv"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto rows = readCsv(fx.dir.file("m.csv"));
+  ASSERT_EQ(rows.size(), 1u + 3u + 1u);  // header, 3 frames (counted from the files), summary
+  const auto& h = rows[0];
+  EXPECT_EQ(rows[4][column(h, "frame")], "all");
+  // Every vertex error is the offset: RMSE = D_A = |offset|; KG from the library.
+  std::vector<std::vector<Vec3d>> refPositions, alignedPositions;
+  for (size_t f = 0; f < 3; ++f) {
+    refPositions.push_back(fx.reference[f].positions);
+    alignedPositions.push_back(inReferenceOrder(
+        fx.decoded[f].positions,
+        nearestVertexCorrespondence(fx.reference[f].positions, fx.decoded[f].positions)));
+  }
+  EXPECT_NEAR(std::stod(rows[4][column(h, "vertex_rmse")]), 0.003, 1e-9);
+  EXPECT_NEAR(std::stod(rows[4][column(h, "vertex_mean_error")]), 0.003, 1e-9);
+  EXPECT_NEAR(std::stod(rows[4][column(h, "kg_error")]), kgError(refPositions, alignedPositions),
+              1e-6);
+  double hausdorffMax = 0;
+  for (size_t f = 0; f < 3; ++f) {
+    const SurfaceDistance d = surfaceDistance(fx.reference[f], fx.decoded[f]);
+    hausdorffMax = std::max(hausdorffMax, d.hausdorff());
+    EXPECT_EQ(rows[1 + f][column(h, "reference_frame")], std::to_string(f + 1));
+    EXPECT_EQ(rows[1 + f][column(h, "test_frame")], std::to_string(f));
+    EXPECT_NEAR(std::stod(rows[1 + f][column(h, "hausdorff_max")]), d.hausdorff(), 1e-9);
+    EXPECT_NEAR(std::stod(rows[1 + f][column(h, "test_to_reference_mean")]), d.testToReference.mean,
+                1e-9);
+  }
+  EXPECT_NEAR(std::stod(rows[4][column(h, "hausdorff_max")]), hausdorffMax, 1e-9);
+  EXPECT_EQ(rows[4][column(h, "unit")], "absolute");
+  // The text report carries the same summary.
+  EXPECT_EQ(test::linesStartingWith(r.out, "D_A").size(), 1u);
+  EXPECT_NE(r.out.find("KG error"), std::string::npos);
+}
+
+TEST(MetricsApp, IdentityCorrespondenceSeesTheShuffle) {
+  AppFixture fx;
+  const test::CommandResult r = test::run(fx.dir, kApp,
+                                          {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t",
+                                           "out/%04d.obj", "--FrameCount=2", "--CsvFile=m.csv"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto rows = readCsv(fx.dir.file("m.csv"));
+  ASSERT_EQ(rows.size(), 1u + 2u + 1u);
+  EXPECT_GT(std::stod(rows[3][column(rows[0], "vertex_rmse")]), 0.1);
+}
+
+TEST(MetricsApp, GroupCorrespondenceIsMadeAtTheFirstFrameOnly) {
+  // With one group for all three frames, frames 1 and 2 reuse frame 0's matching; their own
+  // shuffles differ, so their vertex errors are large, while frame 0's is the offset.
+  AppFixture fx;
+  const test::CommandResult r =
+      test::run(fx.dir, kApp,
+                {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t", "out/%04d.obj",
+                 "--Correspondence=nearest", "--GroupSize=3", "--CsvFile=m.csv"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto rows = readCsv(fx.dir.file("m.csv"));
+  const size_t rmse = column(rows[0], "vertex_rmse");
+  EXPECT_NEAR(std::stod(rows[1][rmse]), 0.003, 1e-9);
+  EXPECT_GT(std::stod(rows[2][rmse]), 0.1);
+}
+
+TEST(MetricsApp, RelativeDistancesAreDividedByTheReferenceDiagonal) {
+  AppFixture fx;
+  const test::CommandResult r =
+      test::run(fx.dir, kApp,
+                {"-r", "ref_1.obj.gz", "-t", "out/0000.obj", "--Correspondence=nearest",
+                 "--Relative", "--CsvFile=m.csv"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto rows = readCsv(fx.dir.file("m.csv"));
+  ASSERT_EQ(rows.size(), 3u);  // header, the one pair, summary
+  BoundingBox box;
+  box.extend(fx.reference[0].positions);
+  const auto& h = rows[0];
+  EXPECT_EQ(rows[2][column(h, "unit")], "diagonal");
+  EXPECT_NEAR(std::stod(rows[2][column(h, "diagonal")]), box.diagonal(), 1e-9);
+  EXPECT_NEAR(std::stod(rows[2][column(h, "vertex_rmse")]), 0.003 / box.diagonal(), 1e-9);
+  EXPECT_NEAR(std::stod(rows[2][column(h, "hausdorff_max")]),
+              surfaceDistance(fx.reference[0], fx.decoded[0]).hausdorff() / box.diagonal(), 1e-9);
+}
+
+TEST(MetricsApp, DifferentVertexCountsGiveSurfaceDistancesOnly) {
+  test::TempDir dir("metrics");
+  test::writeText(dir.file("a.obj"), formatObj(planeGrid(5, 1.0, 0.0)));
+  test::writeText(dir.file("b.obj"), formatObj(planeGrid(3, 1.0, 0.5)));
+  const test::CommandResult r =
+      test::run(dir, kApp, {"-r", "a.obj", "-t", "b.obj", "--CsvFile=m.csv"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto rows = readCsv(dir.file("m.csv"));
+  const auto& h = rows[0];
+  EXPECT_NEAR(std::stod(rows[2][column(h, "hausdorff_max")]), 0.5, 1e-12);
+  EXPECT_EQ(rows[2][column(h, "vertex_rmse")], "");
+  EXPECT_EQ(rows[2][column(h, "kg_error")], "");
+  EXPECT_NE(r.out.find("no vertex errors"), std::string::npos);
+}
+
+TEST(MetricsApp, MissingFrameIsAnErrorNamingTheFileAndLeavesNoCsv) {
+  AppFixture fx;
+  const test::CommandResult r = test::run(fx.dir, kApp,
+                                          {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t",
+                                           "out/%04d.obj", "--FrameCount=4", "--CsvFile=m.csv"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("ref_4.obj.gz"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(fx.dir.file("m.csv")));
+}
+
+TEST(MetricsApp, MixingAFileAndAPatternIsAnError) {
+  AppFixture fx;
+  const test::CommandResult r =
+      test::run(fx.dir, kApp, {"-r", "ref_1.obj.gz", "-t", "out/%04d.obj"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("both"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace tdvo

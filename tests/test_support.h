@@ -1,0 +1,245 @@
+// Helpers shared by the GoogleTest suites: unique temporary folders, small text/gzip file
+// writers, generated deforming mesh sequences and running the apps as child processes.
+// Header-only so that each suite stays one executable with no extra library.
+#pragma once
+
+#include <sys/wait.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/mesh.h"
+
+namespace tdvo {
+namespace test {
+
+// A fresh folder under the system temp folder, removed with everything in it on destruction.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& tag) {
+    static std::atomic<int> counter{0};
+    const auto ticks = std::chrono::steady_clock::now().time_since_epoch().count();
+    path_ = std::filesystem::temp_directory_path() /
+            ("tdvo-" + tag + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) +
+             "-" + std::to_string(ticks));
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+inline void writeText(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) throw std::runtime_error("test: cannot write " + path);
+}
+
+inline std::string readText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("test: cannot read " + path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+inline std::vector<uint8_t> readBytes(const std::string& path) {
+  const std::string text = readText(path);
+  return std::vector<uint8_t>(text.begin(), text.end());
+}
+
+inline void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+  writeText(path, std::string(bytes.begin(), bytes.end()));
+}
+
+// Writes `text` gzip-compressed through zlib.
+inline void writeGz(const std::string& path, const std::string& text) {
+  gzFile gz = gzopen(path.c_str(), "wb9");
+  if (!gz) throw std::runtime_error("test: cannot create " + path);
+  const int n = gzwrite(gz, text.data(), static_cast<unsigned>(text.size()));
+  if (gzclose(gz) != Z_OK || n != static_cast<int>(text.size()))
+    throw std::runtime_error("test: cannot write " + path);
+}
+
+// Non-empty lines of a text.
+inline std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line))
+    if (!line.empty()) out.push_back(line);
+  return out;
+}
+
+// The lines of a text that start with `prefix`.
+inline std::vector<std::string> linesStartingWith(const std::string& text,
+                                                  const std::string& prefix) {
+  std::vector<std::string> out;
+  for (const std::string& line : lines(text))
+    if (line.rfind(prefix, 0) == 0) out.push_back(line);
+  return out;
+}
+
+// Files in a folder (names only), sorted.
+inline std::vector<std::string> listFolder(const std::filesystem::path& folder) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, ec))
+    names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// ---- Generated meshes ----
+
+// A unit icosphere: the icosahedron with each triangle split into four `subdivisions` times
+// (12, 42, 162, 642, ... vertices). Triangles are counter-clockwise seen from outside.
+inline Mesh icosphere(int subdivisions) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  Mesh m;
+  m.positions = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                 {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  m.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                 {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                 {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                 {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoints;
+    auto midpoint = [&](uint32_t a, uint32_t b) {
+      const auto key = std::minmax(a, b);
+      auto it = midpoints.find(key);
+      if (it != midpoints.end()) return it->second;
+      const Vec3d& p = m.positions[a];
+      const Vec3d& q = m.positions[b];
+      m.positions.push_back({(p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2});
+      const uint32_t index = static_cast<uint32_t>(m.positions.size() - 1);
+      midpoints.emplace(key, index);
+      return index;
+    };
+    std::vector<Triangle> next;
+    for (const Triangle& tri : m.triangles) {
+      const uint32_t ab = midpoint(tri[0], tri[1]);
+      const uint32_t bc = midpoint(tri[1], tri[2]);
+      const uint32_t ca = midpoint(tri[2], tri[0]);
+      next.push_back({tri[0], ab, ca});
+      next.push_back({tri[1], bc, ab});
+      next.push_back({tri[2], ca, bc});
+      next.push_back({ab, bc, ca});
+    }
+    m.triangles = std::move(next);
+  }
+  for (Vec3d& p : m.positions) {
+    const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    for (double& c : p)
+      c /= r;
+  }
+  return m;
+}
+
+// `frames` frames of an icosphere (radius ~`radius`, centred at `centre`) breathing and
+// wobbling over time: every vertex moves differently in every frame.
+inline std::vector<Mesh> wobblingSphere(int subdivisions, int frames, double radius = 1.0,
+                                        const Vec3d& centre = {0, 0, 0}) {
+  const Mesh base = icosphere(subdivisions);
+  std::vector<Mesh> out;
+  for (int f = 0; f < frames; ++f) {
+    Mesh m = base;
+    const double phase = 0.45 * f;
+    for (Vec3d& p : m.positions) {
+      const double r = radius * (1.0 + 0.15 * std::sin(3 * p[0] + phase) * std::cos(2 * p[1]) +
+                                 0.05 * std::sin(phase));
+      p = {centre[0] + r * p[0] + 0.1 * f, centre[1] + r * p[1], centre[2] + r * p[2]};
+    }
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+// An nx × ny sheet of vertices (2 (nx-1)(ny-1) triangles) in the x/y plane with a travelling
+// sine wave in z.
+inline std::vector<Mesh> waveSheet(int nx, int ny, int frames) {
+  Mesh base;
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x)
+      base.positions.push_back({x * 0.1, y * 0.07, 0.0});
+  for (int y = 0; y + 1 < ny; ++y)
+    for (int x = 0; x + 1 < nx; ++x) {
+      const uint32_t a = static_cast<uint32_t>(y * nx + x), b = a + 1,
+                     c = a + static_cast<uint32_t>(nx), d = c + 1;
+      base.triangles.push_back({a, b, d});
+      base.triangles.push_back({a, d, c});
+    }
+  std::vector<Mesh> out;
+  for (int f = 0; f < frames; ++f) {
+    Mesh m = base;
+    for (Vec3d& p : m.positions)
+      p[2] = 0.3 * std::sin(6.0 * p[0] - 0.5 * f) * std::cos(4.0 * p[1] + 0.2 * f);
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+// ---- Child processes ----
+
+struct CommandResult {
+  int exitCode = -1;
+  std::string out, err;
+};
+
+inline std::string shellQuote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) {
+    if (c == '\'')
+      q += "'\\''";
+    else
+      q += c;
+  }
+  return q + "'";
+}
+
+// Runs `command` through the shell in `folder`, capturing stdout and stderr. `args` are quoted.
+inline CommandResult run(const TempDir& folder, const std::string& program,
+                         const std::vector<std::string>& args) {
+  static std::atomic<int> counter{0};
+  const int n = counter++;
+  const std::string outPath = (folder.path() / ("stdout." + std::to_string(n))).string();
+  const std::string errPath = (folder.path() / ("stderr." + std::to_string(n))).string();
+  std::string command = "cd " + shellQuote(folder.path().string()) + " && " + shellQuote(program);
+  for (const std::string& a : args)
+    command += " " + shellQuote(a);
+  command += " >" + shellQuote(outPath) + " 2>" + shellQuote(errPath) + " </dev/null";
+  const int status = std::system(command.c_str());
+  CommandResult r;
+  r.exitCode = (status != -1 && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;
+  r.out = readText(outPath);
+  r.err = readText(errPath);
+  std::filesystem::remove(outPath);
+  std::filesystem::remove(errPath);
+  return r;
+}
+
+}  // namespace test
+}  // namespace tdvo

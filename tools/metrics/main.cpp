@@ -1,0 +1,317 @@
+// 3dvo-metrics: geometry distortion between a reference and a test mesh sequence (or two single
+// meshes): point-to-surface Hausdorff distances per frame, and vertex RMSE, D_A and the KG error
+// when the vertex counts match. Formulas and conventions: docs/metrics.md.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/app.h"
+#include "common/config.h"
+#include "common/error.h"
+#include "common/file_io.h"
+#include "common/metrics.h"
+#include "common/obj_io.h"
+#include "common/progress.h"
+#include "common/sequence.h"
+
+using namespace tdvo;
+
+namespace {
+
+enum class Correspondence { kIdentity, kNearest };
+
+struct Params {
+  std::string referenceMeshes, testMeshes, csvFile;
+  int referenceFirstFrame = 0, testFirstFrame = 0, frameCount = 0, groupSize = 1;
+  Correspondence correspondence = Correspondence::kIdentity;
+  bool relative = false;
+
+  void registerOptions(OptionTable& t) {
+    t.section("Reference");
+    t.add("ReferenceMeshes", referenceMeshes,
+          "reference OBJ (.obj or .obj.gz): one file, or a printf pattern such as "
+          "seq/%04d.obj.gz for a sequence",
+          "-r");
+    t.add("ReferenceFirstFrame", referenceFirstFrame, 0, 1000000000,
+          "number of the first reference frame (sequences only)");
+    t.section("Test");
+    t.add("TestMeshes", testMeshes,
+          "test OBJ (e.g. decoded output): one file, or a pattern such as out/%04d.obj", "-t");
+    t.add("TestFirstFrame", testFirstFrame, 0, 1000000000,
+          "number of the first test frame (sequences only; 3dvo-dec numbers from 0)");
+    t.section("Comparison");
+    t.add("FrameCount", frameCount, 0, 10000000,
+          "frames to compare (sequences only); 0 = from the first frames on, as long as "
+          "both sequences have the frame");
+    t.addEnum("Correspondence", correspondence,
+              {{"identity", Correspondence::kIdentity}, {"nearest", Correspondence::kNearest}},
+              "vertex order for RMSE, D_A and KG: identity = vertex i is vertex i; nearest = "
+              "match each test vertex to its nearest reference vertex at the first frame of "
+              "each group (for decoded 3DVO frames, which are in Draco's vertex order)");
+    t.add("GroupSize", groupSize, 1, 10000000,
+          "frames per group for Correspondence nearest: one matching per group, made at its "
+          "first frame (set to the encoder's GOMSize; 1 = match every frame)");
+    t.add("Relative", relative,
+          "report distances divided by the diagonal of the reference bounding box (over all "
+          "compared frames) instead of in OBJ units");
+    t.section("Output");
+    t.add("CsvFile", csvFile, "also write the per-frame and summary figures as CSV to this file");
+  }
+};
+
+bool isPattern(const std::string& name) {
+  return name.find('%') != std::string::npos;
+}
+
+// Figures of one compared frame, in OBJ units.
+struct FrameResult {
+  int referenceFrame = 0, testFrame = 0;
+  size_t referenceVertices = 0, testVertices = 0;
+  SurfaceDistance surface;
+  std::optional<double> rmse, meanError;  // absent when the vertex errors are undefined
+};
+
+// CSV cells carry 10 significant digits, the text report 6; an absent value is an empty cell
+// in CSV and "n/a" in text.
+std::string format(double value, int digits = 10) {
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
+  return buffer;
+}
+
+std::string csvCell(const std::optional<double>& value) {
+  return value ? format(*value) : std::string();
+}
+
+std::string textCell(const std::optional<double>& value) {
+  return value ? format(*value, 6) : std::string("n/a");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return runApp("3dvo-metrics", [&]() {
+    Params p;
+    OptionTable table("3dvo-metrics",
+                      "3dvo-metrics -r REFERENCE -t TEST [--Key=value ...]\n"
+                      "  e.g. 3dvo-metrics -r seq/%04d.obj.gz --ReferenceFirstFrame=1 "
+                      "-t out/%04d.obj --Correspondence=nearest --GroupSize=8 --CsvFile=m.csv");
+    p.registerOptions(table);
+    if (!table.parseCommandLine(argc, argv)) return 0;
+    check(!p.referenceMeshes.empty(), "no reference given (-r FILE or PATTERN; see --help)");
+    check(!p.testMeshes.empty(), "no test meshes given (-t FILE or PATTERN; see --help)");
+    const bool sequence = isPattern(p.referenceMeshes);
+    check(sequence == isPattern(p.testMeshes),
+          "ReferenceMeshes and TestMeshes must both be single files or both be frame patterns");
+    const auto start = std::chrono::steady_clock::now();
+
+    // The files to compare.
+    std::vector<std::string> referencePaths, testPaths;
+    std::vector<int> referenceFrames, testFrames;
+    if (!sequence) {
+      referencePaths = {p.referenceMeshes};
+      testPaths = {p.testMeshes};
+      referenceFrames = testFrames = {0};
+    } else {
+      checkFramePattern(p.referenceMeshes, "ReferenceMeshes");
+      checkFramePattern(p.testMeshes, "TestMeshes");
+      int count = p.frameCount;
+      if (count == 0) {
+        // Compare as long as both sequences have the frame (the count is printed below).
+        while (
+            std::filesystem::exists(framePath(p.referenceMeshes, p.referenceFirstFrame + count)) &&
+            std::filesystem::exists(framePath(p.testMeshes, p.testFirstFrame + count)))
+          ++count;
+        check(count > 0, "no frames to compare: '" +
+                             framePath(p.referenceMeshes, p.referenceFirstFrame) + "' or '" +
+                             framePath(p.testMeshes, p.testFirstFrame) + "' does not exist");
+      }
+      for (int k = 0; k < count; ++k) {
+        referenceFrames.push_back(p.referenceFirstFrame + k);
+        testFrames.push_back(p.testFirstFrame + k);
+        referencePaths.push_back(framePath(p.referenceMeshes, referenceFrames.back()));
+        testPaths.push_back(framePath(p.testMeshes, testFrames.back()));
+      }
+    }
+    const size_t frames = referencePaths.size();
+
+    // Per frame: surface distances always; vertex errors while the vertex counts allow them.
+    std::vector<FrameResult> results(frames);
+    BoundingBox box;
+    SequenceErrorAccumulator sequenceErrors;
+    std::string vertexErrorsMissing;  // why the sequence vertex errors are undefined, if they are
+    std::vector<uint32_t> correspondence;
+    bool haveCorrespondence = false;
+    {
+      Progress progress("comparing frames", frames);
+      for (size_t k = 0; k < frames; ++k) {
+        const Mesh reference = readObj(referencePaths[k]);
+        const Mesh test = readObj(testPaths[k]);
+        FrameResult& r = results[k];
+        r.referenceFrame = referenceFrames[k];
+        r.testFrame = testFrames[k];
+        r.referenceVertices = reference.positions.size();
+        r.testVertices = test.positions.size();
+        box.extend(reference.positions);
+        r.surface = surfaceDistance(reference, test);
+
+        const bool groupStart = k % static_cast<size_t>(p.groupSize) == 0;
+        if (groupStart) haveCorrespondence = false;
+        std::string problem;
+        if (r.referenceVertices != r.testVertices) {
+          problem = testPaths[k] + " has " + std::to_string(r.testVertices) + " vertices, " +
+                    referencePaths[k] + " " + std::to_string(r.referenceVertices);
+        } else if (p.correspondence == Correspondence::kNearest && !haveCorrespondence) {
+          if (groupStart) {
+            correspondence = nearestVertexCorrespondence(reference.positions, test.positions);
+            haveCorrespondence = true;
+          } else {
+            problem = "no vertex correspondence for " + testPaths[k] +
+                      " (the first frame of its group had none)";
+          }
+        } else if (p.correspondence == Correspondence::kNearest &&
+                   correspondence.size() != r.testVertices) {
+          problem = testPaths[k] +
+                    " has a different vertex count than the first frame of its "
+                    "group";
+        }
+        if (problem.empty()) {
+          const std::vector<Vec3d> aligned = p.correspondence == Correspondence::kNearest
+                                                 ? inReferenceOrder(test.positions, correspondence)
+                                                 : test.positions;
+          SequenceErrorAccumulator frameErrors;
+          frameErrors.addFrame(reference.positions, aligned);
+          r.rmse = frameErrors.vertexRmse();
+          r.meanError = frameErrors.temporalAverageError();
+          if (sequenceErrors.frameCount() > 0 &&
+              sequenceErrors.vertexCount() != reference.positions.size())
+            problem = referencePaths[k] + " has " + std::to_string(r.referenceVertices) +
+                      " vertices, earlier frames " + std::to_string(sequenceErrors.vertexCount());
+          else if (vertexErrorsMissing.empty())
+            sequenceErrors.addFrame(reference.positions, aligned);
+        }
+        if (!problem.empty() && vertexErrorsMissing.empty()) vertexErrorsMissing = problem;
+        progress.tick(k + 1);
+      }
+    }
+
+    // Reporting, in OBJ units or relative to the reference diagonal.
+    const double diagonal = box.diagonal();
+    check(!p.relative || diagonal > 0,
+          "Relative: the reference bounding box has zero diagonal (all vertices at one point)");
+    const double unit = p.relative ? diagonal : 1.0;
+    auto scaled = [&](double v) { return v / unit; };
+    auto scaledOpt = [&](const std::optional<double>& v) {
+      return v ? std::optional<double>(*v / unit) : std::nullopt;
+    };
+
+    std::printf("# 3dvo-metrics\n");
+    if (sequence) {
+      std::printf("reference           : %s, frames %d..%d\n", p.referenceMeshes.c_str(),
+                  referenceFrames.front(), referenceFrames.back());
+      std::printf("test                : %s, frames %d..%d\n", p.testMeshes.c_str(),
+                  testFrames.front(), testFrames.back());
+    } else {
+      std::printf("reference           : %s\n", p.referenceMeshes.c_str());
+      std::printf("test                : %s\n", p.testMeshes.c_str());
+    }
+    if (p.correspondence == Correspondence::kNearest)
+      std::printf(
+          "correspondence      : nearest reference vertex, matched at the first frame "
+          "of each group of %d\n",
+          p.groupSize);
+    else
+      std::printf("correspondence      : identity (vertex i is vertex i)\n");
+    std::printf("reference diagonal  : %s\n", format(diagonal, 6).c_str());
+    std::printf("distances           : %s\n",
+                p.relative ? "relative to the reference diagonal" : "OBJ units");
+
+    std::printf("# per frame: H = symmetric Hausdorff, r->t / t->r = one-sided (max, mean)\n");
+    std::printf("%6s %6s %6s %8s %8s %11s %11s %11s %11s %11s %11s %11s %11s\n", "frame", "ref",
+                "test", "ref_v", "test_v", "H_max", "H_mean", "r->t_max", "r->t_mean", "t->r_max",
+                "t->r_mean", "v_rmse", "v_mean");
+    std::string csv =
+        "frame,reference_frame,test_frame,reference_vertices,test_vertices,hausdorff_max,"
+        "hausdorff_mean,reference_to_test_max,reference_to_test_mean,test_to_reference_max,"
+        "test_to_reference_mean,vertex_rmse,vertex_mean_error,kg_error,unit,diagonal\n";
+    const std::string unitName = p.relative ? "diagonal" : "absolute";
+    double hausdorffMax = 0, hausdorffMeanSum = 0, rtMax = 0, rtMeanSum = 0, trMax = 0,
+           trMeanSum = 0;
+    for (size_t k = 0; k < frames; ++k) {
+      const FrameResult& r = results[k];
+      const SurfaceDistance& s = r.surface;
+      hausdorffMax = std::max(hausdorffMax, s.hausdorff());
+      hausdorffMeanSum += s.mean();
+      rtMax = std::max(rtMax, s.referenceToTest.max);
+      rtMeanSum += s.referenceToTest.mean;
+      trMax = std::max(trMax, s.testToReference.max);
+      trMeanSum += s.testToReference.mean;
+      const std::vector<std::optional<double>> values = {scaled(s.hausdorff()),
+                                                         scaled(s.mean()),
+                                                         scaled(s.referenceToTest.max),
+                                                         scaled(s.referenceToTest.mean),
+                                                         scaled(s.testToReference.max),
+                                                         scaled(s.testToReference.mean),
+                                                         scaledOpt(r.rmse),
+                                                         scaledOpt(r.meanError)};
+      std::printf("%6zu %6d %6d %8zu %8zu", k, r.referenceFrame, r.testFrame, r.referenceVertices,
+                  r.testVertices);
+      for (const auto& v : values)
+        std::printf(" %11s", textCell(v).c_str());
+      std::printf("\n");
+      csv += std::to_string(k) + "," + std::to_string(r.referenceFrame) + "," +
+             std::to_string(r.testFrame) + "," + std::to_string(r.referenceVertices) + "," +
+             std::to_string(r.testVertices);
+      for (const auto& v : values)
+        csv += "," + csvCell(v);
+      csv += ",," + unitName + "," + format(diagonal) + "\n";
+    }
+
+    const double n = static_cast<double>(frames);
+    std::optional<double> rmse, da, kg;
+    if (vertexErrorsMissing.empty()) {
+      rmse = sequenceErrors.vertexRmse();
+      da = sequenceErrors.temporalAverageError();
+      kg = sequenceErrors.kgError();
+    }
+    const std::vector<std::optional<double>> summary = {scaled(hausdorffMax),
+                                                        scaled(hausdorffMeanSum / n),
+                                                        scaled(rtMax),
+                                                        scaled(rtMeanSum / n),
+                                                        scaled(trMax),
+                                                        scaled(trMeanSum / n),
+                                                        scaledOpt(rmse),
+                                                        scaledOpt(da),
+                                                        kg};
+    csv += "all,,,,";
+    for (const auto& v : summary)
+      csv += "," + csvCell(v);
+    csv += "," + unitName + "," + format(diagonal) + "\n";
+    if (!p.csvFile.empty()) writeFileAtomic(p.csvFile, csv);
+
+    auto line = [](const char* name, const std::optional<double>& value, const char* note) {
+      std::printf("%-22s: %s%s\n", name, textCell(value).c_str(), value ? note : "");
+    };
+    std::printf("# summary\n");
+    std::printf("%-22s: %zu\n", "frames", frames);
+    line("Hausdorff max", summary[0], "  (largest over frames)");
+    line("Hausdorff mean", summary[1], "  (mean over frames)");
+    line("reference->test max", summary[2], "");
+    line("reference->test mean", summary[3], "");
+    line("test->reference max", summary[4], "");
+    line("test->reference mean", summary[5], "");
+    line("vertex RMSE", summary[6], "  (all frames and vertices)");
+    line("D_A", summary[7], "  (mean Euclidean vertex error)");
+    line("KG error", summary[8], " %");
+    if (!vertexErrorsMissing.empty())
+      std::printf("%-22s: %s\n", "no vertex errors", vertexErrorsMissing.c_str());
+    if (!p.csvFile.empty()) std::printf("%-22s: %s\n", "csv", p.csvFile.c_str());
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("%-22s: %.3f s\n", "time", seconds);
+    return 0;
+  });
+}
