@@ -60,20 +60,29 @@ std::string readFileMaybeGz(const std::string& path) {
   return text;
 }
 
+namespace {
+
+// Writes `path` completely or not at all (removed on failure); errors name `shown`, the file
+// name the user knows.
+void writeWhole(const std::string& path, const std::string& shown, const void* data,
+                size_t size) {
+  FilePtr f(std::fopen(path.c_str(), "wb"));
+  if (!f) throw Error(shown + ": cannot create: " + systemError());
+  bool ok = std::fwrite(data, 1, size, f.get()) == size;
+  ok = (std::fflush(f.get()) == 0) && ok;
+  if (!ok) {
+    const std::string why = systemError();
+    f.reset();
+    std::remove(path.c_str());
+    throw Error(shown + ": write error: " + why);
+  }
+}
+
+}  // namespace
+
 void writeFileAtomic(const std::string& path, const void* data, size_t size) {
   const std::string temp = path + ".tmp" + std::to_string(::getpid());
-  {
-    FilePtr f(std::fopen(temp.c_str(), "wb"));
-    if (!f) throw Error(path + ": cannot create: " + systemError());
-    bool ok = std::fwrite(data, 1, size, f.get()) == size;
-    ok = (std::fflush(f.get()) == 0) && ok;
-    if (!ok) {
-      const std::string why = systemError();
-      f.reset();
-      std::remove(temp.c_str());
-      throw Error(path + ": write error: " + why);
-    }
-  }
+  writeWhole(temp, path, data, size);
   if (std::rename(temp.c_str(), path.c_str()) != 0) {
     const std::string why = systemError();
     std::remove(temp.c_str());
@@ -88,7 +97,7 @@ StagedFiles::~StagedFiles() {
 }
 
 void StagedFiles::write(const std::string& path, const void* data, size_t size) {
-  writeFileAtomic(path + ".partial", data, size);
+  writeWhole(path + ".partial", path, data, size);
   paths_.push_back(path);
 }
 

@@ -1,6 +1,7 @@
 // 3dvo-dec: decodes a .3dvo stream to OBJ frames and prints per-frame MD5 lines.
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -56,7 +57,20 @@ int main(int argc, char** argv) {
 
     std::vector<std::string> expected;
     if (!verifyPath.empty()) expected = readMd5Lines(verifyPath);
-    if (!outputDir.empty()) makeDirectories(outputDir);
+    // A folder this run creates is removed again if the run fails (it is empty then: the
+    // frames are staged and removed on failure).
+    struct CreatedFolder {
+      std::string path;
+      bool keep = false;
+      ~CreatedFolder() {
+        std::error_code ec;
+        if (!keep && !path.empty()) std::filesystem::remove(path, ec);
+      }
+    } createdFolder;
+    if (!outputDir.empty()) {
+      if (!std::filesystem::exists(outputDir)) createdFolder.path = outputDir;
+      makeDirectories(outputDir);
+    }
 
     const std::vector<uint8_t> stream = readFileBytes(streamPath);
     StreamDecoder decoder(stream.data(), stream.size(), streamPath, trace ? stderr : nullptr);
@@ -83,6 +97,7 @@ int main(int argc, char** argv) {
             verifyPath + ": has " + std::to_string(expected.size()) + " MD5 lines, decoded " +
                 std::to_string(frames) + " frames");
     outputs.commit();
+    createdFolder.keep = true;
 
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -1,6 +1,7 @@
 #include "encoder/sequence_encoder.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -117,6 +118,15 @@ class GomEncoder {
       check(t[0] != t[1] && t[1] != t[2] && t[0] != t[2],
             frameName(frame) + ": triangle with a repeated vertex (degenerate face)");
     IMeshEncoding i = encodeIMesh(input, params_.gridBits, params_.dracoSpeed);
+    // Draco does not keep vertices that no triangle uses; say so rather than drop them quietly.
+    if (i.decoded.positions.size() != input.positions.size())
+      std::fprintf(stderr, "3dvo-enc: warning: %s: %zu vertices in, %zu coded (Draco drops "
+                   "vertices no triangle uses and splits non-manifold ones)\n",
+                   frameName(frame).c_str(), input.positions.size(), i.decoded.positions.size());
+    if (i.unmatchedTriangles > 0)
+      std::fprintf(stderr, "3dvo-enc: warning: %s: %zu decoded triangles have no input twin; "
+                   "P meshes of this GOM may predict poorly\n",
+                   frameName(frame).c_str(), i.unmatchedTriangles);
     IMeshUnit im;
     im.im_frame = static_cast<uint32_t>(frame);
     im.im_draco_payload = i.payload;
