@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "common/mesh.h"
+#include "common/sample_mesh.h"
 
 namespace tdvo {
 namespace test {
@@ -115,49 +116,6 @@ inline std::vector<std::string> listFolder(const std::filesystem::path& folder) 
 
 // ---- Generated meshes ----
 
-// A unit icosphere: the icosahedron with each triangle split into four `subdivisions` times
-// (12, 42, 162, 642, ... vertices). Triangles are counter-clockwise seen from outside.
-inline Mesh icosphere(int subdivisions) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  Mesh m;
-  m.positions = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
-                 {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
-  m.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                 {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                 {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                 {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (int s = 0; s < subdivisions; ++s) {
-    std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoints;
-    auto midpoint = [&](uint32_t a, uint32_t b) {
-      const auto key = std::minmax(a, b);
-      auto it = midpoints.find(key);
-      if (it != midpoints.end()) return it->second;
-      const Vec3d& p = m.positions[a];
-      const Vec3d& q = m.positions[b];
-      m.positions.push_back({(p[0] + q[0]) / 2, (p[1] + q[1]) / 2, (p[2] + q[2]) / 2});
-      const uint32_t index = static_cast<uint32_t>(m.positions.size() - 1);
-      midpoints.emplace(key, index);
-      return index;
-    };
-    std::vector<Triangle> next;
-    for (const Triangle& tri : m.triangles) {
-      const uint32_t ab = midpoint(tri[0], tri[1]);
-      const uint32_t bc = midpoint(tri[1], tri[2]);
-      const uint32_t ca = midpoint(tri[2], tri[0]);
-      next.push_back({tri[0], ab, ca});
-      next.push_back({tri[1], bc, ab});
-      next.push_back({tri[2], ca, bc});
-      next.push_back({ab, bc, ca});
-    }
-    m.triangles = std::move(next);
-  }
-  for (Vec3d& p : m.positions) {
-    const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-    for (double& c : p)
-      c /= r;
-  }
-  return m;
-}
 
 // `frames` frames of an icosphere (radius ~`radius`, centred at `centre`) breathing and
 // wobbling over time: every vertex moves differently in every frame.
