@@ -1,0 +1,139 @@
+"""The 3dvo-rd command line (docs/rd.md)."""
+
+import argparse
+import os
+import shlex
+import sys
+
+from . import job as job_module
+from .report import write_outputs
+from .runner import run_sweep
+from .sweep import Identity, Sweep, SweepError
+
+_REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                      ".."))
+
+
+def default_bin_dir():
+    """TDVO_BIN_DIR (set by the build/bin/3dvo-rd launcher), else <repo>/build/bin."""
+    return os.environ.get("TDVO_BIN_DIR") or os.path.join(_REPO, "build", "bin")
+
+
+def _parser():
+    parser = argparse.ArgumentParser(
+        prog="3dvo-rd",
+        description="Rate-distortion sweeps of 3dvo-enc: every sequence x coding mode x setting "
+                    "is a cached job (encode, decode, metrics); outputs CSV, BD-rate tables, "
+                    "RD plots and a results page. See docs/rd.md.")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    def common(p):
+        p.add_argument("sweep", help="sweep file (TOML)")
+        p.add_argument("--results", metavar="DIR",
+                       help="results folder (the cache); default: [sweep] results of the sweep")
+        p.add_argument("--bin-dir", metavar="DIR", default=None,
+                       help="folder of 3dvo-enc, 3dvo-dec, 3dvo-metrics (default: %s)" %
+                       default_bin_dir())
+
+    run = sub.add_parser("run", help="run the jobs that have no cached result, then write "
+                         "<results>/rd.csv and bd.csv (and a page with --report)")
+    common(run)
+    run.add_argument("--scheduler", metavar="ADDRESS",
+                     help="send the jobs to this running Dask scheduler (tcp://HOST:PORT, or "
+                     "the file of `dask scheduler --scheduler-file`) instead of the local pool")
+    run.add_argument("--jobs", "-j", type=int, default=None, metavar="N",
+                     help="local pool size (default: the core count)")
+    run.add_argument("--force", action="store_true", help="recompute cached jobs too")
+    run.add_argument("--timeout", type=float, default=None, metavar="SECONDS",
+                     help="limit per encode/decode/metrics command (default: [sweep] timeout, "
+                     "else none)")
+    run.add_argument("--scratch", metavar="DIR", default=None,
+                     help="where each job makes its temporary folder (default: the system's "
+                     "temporary folder of the machine running the job)")
+    run.add_argument("--report", metavar="PAGE.md",
+                     help="also write the results page (as the report command's --out)")
+
+    report = sub.add_parser("report", help="write CSV, BD tables, plots and the results page "
+                            "from cached results, without running anything")
+    common(report)
+    report.add_argument("--out", metavar="PAGE.md",
+                        help="results page to write; its figures and CSV go into the folder "
+                        "of the same name without .md")
+    report.add_argument("--partial", action="store_true",
+                        help="write the outputs even when some jobs have no result")
+
+    show = sub.add_parser("list", help="print the jobs of a sweep and whether each is cached")
+    common(show)
+    return parser
+
+
+def _results_dir(args, sweep):
+    results = args.results or sweep.results
+    if not results:
+        raise SweepError("%s: no results folder: pass --results DIR or set [sweep] results"
+                         % args.sweep)
+    return os.path.abspath(results)
+
+
+def _command_line(sweep, page):
+    """The command that regenerates a page, paths relative to the sweep root. Where the cache
+    lives (--results) changes nothing in the page, so the command leaves it out."""
+    parts = ["tools/rd/3dvo-rd", "run", os.path.relpath(sweep.path, sweep.root), "--report",
+             os.path.relpath(os.path.abspath(page), sweep.root)]
+    return " ".join(shlex.quote(p) for p in parts)
+
+
+def main(argv=None):
+    args = _parser().parse_args(argv)
+    try:
+        sweep = Sweep(args.sweep)
+        results_dir = _results_dir(args, sweep)
+        bin_dir = args.bin_dir or default_bin_dir()
+        if args.command == "list":
+            identity = Identity(bin_dir)
+            for j in sweep.jobs():
+                key = identity.key(j)
+                state = "cached" if job_module.read_result(results_dir, key) else "todo"
+                print("%-6s %s  %s / %s / %s" % (state, key[:16], j.sequence.name, j.mode.name,
+                                                 j.setting_label))
+            return 0
+        if args.command == "run":
+            summary, results = run_sweep(sweep, bin_dir, results_dir, scheduler=args.scheduler,
+                                         jobs=args.jobs, force=args.force, timeout=args.timeout,
+                                         scratch_dir=args.scratch)
+            identity_hashes = Identity(bin_dir).binary_hashes
+            page = args.report
+            complete = summary.failed == 0 and not summary.interrupted
+            write_outputs(sweep, results, identity_hashes, results_dir,
+                          page if complete else None,
+                          _command_line(sweep, page) if page else None)
+            print(summary.line())
+            print("rows: %s" % os.path.join(results_dir, "rd.csv"))
+            if page and complete:
+                print("page: %s" % page)
+            elif page:
+                print("page: not written (the sweep is incomplete)")
+            if summary.interrupted:
+                print("interrupted: finished jobs are cached; rerun to continue",
+                      file=sys.stderr)
+                return 130
+            return 1 if summary.failed else 0
+        # report
+        identity = Identity(bin_dir)
+        results = [job_module.read_result(results_dir, identity.key(j)) for j in sweep.jobs()]
+        missing = sum(1 for r in results if r is None)
+        if missing and not args.partial:
+            raise SweepError("%d of %d jobs have no result in %s for the current binaries and "
+                             "inputs: run `3dvo-rd run` first (or pass --partial)"
+                             % (missing, len(results), results_dir))
+        page = args.out
+        write_outputs(sweep, results, identity.binary_hashes, results_dir, page,
+                      _command_line(sweep, page) if page else None)
+        print("rows: %s (%d of %d jobs)" % (os.path.join(results_dir, "rd.csv"),
+                                           len(results) - missing, len(results)))
+        if page:
+            print("page: %s" % page)
+        return 0
+    except SweepError as e:
+        print("3dvo-rd: error: %s" % e, file=sys.stderr)
+        return 1

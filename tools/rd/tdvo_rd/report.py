@@ -1,0 +1,334 @@
+"""Outputs from cached results: the CSV of all rows, BD-rate tables, RD plots, a Markdown page.
+
+Nothing here encodes: everything is made from the result JSON files, so plots and tables can be
+redrawn (`3dvo-rd report`) without rerunning a job.
+
+[report] keys of the sweep file (all optional):
+    title = "..."                  # page title
+    description = "..."            # Markdown paragraph under the title
+    anchors = ["intra"]            # modes the others are compared against (default: the first)
+    distortion = ["D_A"]           # metrics for BD figures and plots (first = main)
+    rate = "kbit_s"                # or "bits_per_vertex_frame": plot axis and BD rate
+    method = "pchip"               # or "cubic" (bdrate.py)
+"""
+
+import csv
+import io
+import math
+import os
+
+from . import bdrate
+from .sweep import SweepError
+
+# CSV columns, in order. Metric columns hold the text 3dvo-metrics printed (10 significant
+# digits); D_A is its summary `vertex_mean_error`.
+_METRIC_COLUMNS = ["D_A", "vertex_rmse", "kg_error", "hausdorff_max", "hausdorff_mean",
+                   "reference_to_test_max", "reference_to_test_mean", "test_to_reference_max",
+                   "test_to_reference_mean", "diagonal"]
+_TIME_COLUMNS = ["encode_s", "decode_s", "metrics_s"]
+CSV_COLUMNS = (["sequence", "mode", "point", "setting", "frames", "vertices", "frame_rate",
+                "bytes", "kbit_s", "bits_per_vertex_frame"] + _METRIC_COLUMNS + _TIME_COLUMNS +
+               ["key"])
+# Columns that differ between two runs of the same sweep (wall-clock times).
+TIMING_COLUMNS = _TIME_COLUMNS
+
+# Distortions usable for BD figures, with what their PSNR-like quality divides by.
+DISTORTIONS = {
+    "D_A": "diagonal", "vertex_rmse": "diagonal", "hausdorff_max": "diagonal",
+    "hausdorff_mean": "diagonal", "kg_error": 100.0,
+}
+DISTORTION_NAMES = {
+    "D_A": "D_A", "vertex_rmse": "vertex RMSE", "hausdorff_max": "Hausdorff max",
+    "hausdorff_mean": "Hausdorff mean", "kg_error": "KG error",
+}
+RATES = {"kbit_s": "kbit/s", "bits_per_vertex_frame": "bits/vertex/frame"}
+
+
+class ReportOptions:
+    def __init__(self, sweep):
+        table = sweep.report_table()
+        mode_names = [m.name for m in sweep.modes]
+        self.title = table.get("title", str, "Rate-distortion results: " + sweep.name)
+        self.description = table.get("description", str, "")
+        self.anchors = table.get("anchors", list, mode_names[:1])
+        for a in self.anchors:
+            if a not in mode_names:
+                table._fail("anchors: no mode named '%s'" % a)
+        self.distortion = table.get("distortion", list, ["D_A"])
+        for d in self.distortion:
+            if d not in DISTORTIONS:
+                table._fail("distortion: '%s' is not one of %s" % (d, ", ".join(DISTORTIONS)))
+        self.rate = table.get("rate", str, "kbit_s")
+        if self.rate not in RATES:
+            table._fail("rate must be one of %s" % ", ".join(RATES))
+        self.method = table.get("method", str, "pchip")
+        if self.method not in bdrate.METHODS:
+            table._fail("method must be one of %s" % ", ".join(bdrate.METHODS))
+        table.finish()
+
+
+def row_of(result):
+    """One CSV row (dict of text) from a job result."""
+    job = result["job"]
+    metrics = dict(result["metrics_text"])
+    metrics["D_A"] = metrics.pop("vertex_mean_error", "")
+    row = {
+        "sequence": job["sequence"], "mode": job["mode"], "point": str(job["point"]),
+        "setting": job["setting_label"], "frames": str(result["frames"]),
+        "vertices": str(result["vertices"]), "frame_rate": "%.10g" % result["frame_rate"],
+        "bytes": str(result["bytes"]), "kbit_s": "%.10g" % result["kbit_s"],
+        "bits_per_vertex_frame": "%.10g" % result["bits_per_vertex_frame"],
+        "key": result["key"],
+    }
+    for name in _METRIC_COLUMNS:
+        row[name] = metrics.get(name, "")
+    for name in _TIME_COLUMNS:
+        row[name] = "%.3f" % result["time"][name]
+    return row
+
+
+def csv_text(rows):
+    out = io.StringIO()
+    writer = csv.DictWriter(out, fieldnames=CSV_COLUMNS, lineterminator="\n")
+    writer.writeheader()
+    for row in rows:
+        writer.writerow(row)
+    return out.getvalue()
+
+
+def write_text_atomic(path, text):
+    folder = os.path.dirname(os.path.abspath(path))
+    os.makedirs(folder, exist_ok=True)
+    temp = os.path.join(folder, ".tmp-" + os.path.basename(path))
+    with open(temp, "w", encoding="utf-8", newline="") as f:
+        f.write(text)
+    os.replace(temp, path)
+
+
+def _float(text):
+    return float(text) if text not in ("", None) else None
+
+
+def quality(row, distortion):
+    """PSNR-like quality in dB of a row's distortion (bdrate.quality_db)."""
+    peak = DISTORTIONS[distortion]
+    peak = _float(row["diagonal"]) if peak == "diagonal" else peak
+    return bdrate.quality_db(_float(row[distortion]), peak)
+
+
+def curves(rows, options, distortion):
+    """{sequence: {mode: [(rate, quality), ...]}} in sweep order, points with a finite quality."""
+    out = {}
+    for row in rows:
+        q = quality(row, distortion)
+        if q is None or math.isinf(q):
+            continue
+        out.setdefault(row["sequence"], {}).setdefault(row["mode"], []).append(
+            (float(row[options.rate]), q))
+    return out
+
+
+def bd_table(rows, options, modes):
+    """Rows of the BD table: each sequence x distortion x anchor x other mode, then the average
+    over sequences (only when every sequence has a figure)."""
+    table = []
+    for distortion in options.distortion:
+        per_sequence = curves(rows, options, distortion)
+        for anchor in options.anchors:
+            for mode in modes:
+                if mode == anchor:
+                    continue
+                figures = []
+                for sequence, by_mode in per_sequence.items():
+                    if anchor not in by_mode or mode not in by_mode:
+                        continue
+                    a, t = by_mode[anchor], by_mode[mode]
+                    entry = {"sequence": sequence, "distortion": distortion, "anchor": anchor,
+                             "mode": mode, "method": options.method, "bd_rate_percent": "",
+                             "bd_quality_db": "", "note": ""}
+                    curve = ([p[0] for p in a], [p[1] for p in a], [p[0] for p in t],
+                             [p[1] for p in t], options.method)
+                    notes = []
+                    for field, function, text in (("bd_rate_percent", bdrate.bd_rate, "%.2f"),
+                                                  ("bd_quality_db", bdrate.bd_quality, "%.3f")):
+                        try:
+                            entry[field] = text % function(*curve)
+                        except bdrate.BdError as e:
+                            notes.append("%s: %s" % ("BD-rate" if field == "bd_rate_percent"
+                                                     else "BD-quality", e))
+                    entry["note"] = "; ".join(notes)
+                    figures.append(entry)
+                    table.append(entry)
+                table += _averages(figures, len(per_sequence), distortion, anchor, mode,
+                                   options.method)
+    return table
+
+
+def _averages(entries, sequences, distortion, anchor, mode, method):
+    """The row averaging each BD figure over the sequences, when every sequence has it."""
+    average = {"sequence": "average", "distortion": distortion, "anchor": anchor, "mode": mode,
+               "method": method, "bd_rate_percent": "", "bd_quality_db": "", "note": ""}
+    for field, text in (("bd_rate_percent", "%.2f"), ("bd_quality_db", "%.3f")):
+        values = [float(e[field]) for e in entries if e[field]]
+        if values and len(values) == sequences:
+            average[field] = text % (sum(values) / len(values))
+    if not (average["bd_rate_percent"] or average["bd_quality_db"]):
+        return []
+    average["note"] = "mean over %d sequences" % sequences
+    return [average]
+
+
+def bd_csv_text(table):
+    out = io.StringIO()
+    fields = ["sequence", "distortion", "anchor", "mode", "method", "bd_rate_percent",
+              "bd_quality_db", "note"]
+    writer = csv.DictWriter(out, fieldnames=fields, lineterminator="\n")
+    writer.writeheader()
+    for entry in table:
+        writer.writerow(entry)
+    return out.getvalue()
+
+
+def plot(rows, options, labels, distortion, sequence, stem):
+    """Draws one RD plot (rate on a log axis, PSNR-like quality) as stem.png and stem.svg."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    matplotlib.rcParams["svg.hashsalt"] = "3dvo-rd"  # stable SVG ids: reruns give equal files
+    figure, axes = plt.subplots(figsize=(6.4, 4.4))
+    by_mode = curves(rows, options, distortion).get(sequence, {})
+    markers = "osD^vP*X"
+    for i, (mode, points) in enumerate(by_mode.items()):
+        points = sorted(points)
+        axes.plot([p[0] for p in points], [p[1] for p in points], marker=markers[i % 8],
+                  label=labels.get(mode, mode))
+    axes.set_xscale("log")
+    # Plain numbers (200, 300, ...) rather than powers of ten on the log axis.
+    axes.xaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 3.0, 5.0, 7.0)))
+    axes.xaxis.set_major_formatter(FuncFormatter(lambda value, _: "%g" % value))
+    axes.xaxis.set_minor_formatter(NullFormatter())
+    axes.set_xlabel("rate [%s]" % RATES[options.rate])
+    axes.set_ylabel("20·log10(%s / %s) [dB]" % (
+        "diagonal" if DISTORTIONS[distortion] == "diagonal" else "100 %",
+        DISTORTION_NAMES[distortion]))
+    axes.set_title("%s: %s" % (sequence, DISTORTION_NAMES[distortion]))
+    axes.grid(True, which="both", alpha=0.3)
+    axes.legend()
+    figure.tight_layout()
+    figure.savefig(stem + ".png", dpi=100, metadata={"Software": None})
+    figure.savefig(stem + ".svg", metadata={"Date": None, "Creator": None})
+    plt.close(figure)
+
+
+def _fmt(text, digits=4):
+    value = _float(text)
+    return "n/a" if value is None else "%.*g" % (digits, value)
+
+
+def markdown_page(sweep, options, rows, table, binary_hashes, files_dir_name, command):
+    """The results page (deterministic: no dates, no timings)."""
+    labels = {m.name: m.label for m in sweep.modes}
+    out = ["# " + options.title, ""]
+    out += ["<!-- Generated by 3dvo-rd from %s; do not edit by hand. -->" %
+            os.path.relpath(sweep.path, sweep.root), ""]
+    if options.description:
+        out += [options.description.strip(), ""]
+    out += ["Produced by:", "", "```sh", command, "```", "",
+            "Every figure below is made from the cached job results (see [rd.md](rd.md)). "
+            "All rows: [%s/rd.csv](%s/rd.csv); BD figures: [%s/bd.csv](%s/bd.csv)." %
+            ((files_dir_name,) * 4), ""]
+
+    out += ["## Sequences", "", "| sequence | input | frames | vertices/frame | frame rate |",
+            "|---|---|---|---|---|"]
+    for s in sweep.sequences:
+        vertices = next((int(r["vertices"]) // int(r["frames"]) for r in rows
+                         if r["sequence"] == s.name), None)
+        out.append("| %s | `%s` | %d from %d | %s | %g |" % (
+            s.name, os.path.relpath(s.pattern, sweep.root), s.frame_count, s.first_frame,
+            vertices if vertices is not None else "n/a", s.frame_rate))
+    out += ["", "## Coding modes", "", "| mode | cfg | fixed keys | rate points |",
+            "|---|---|---|---|"]
+    for m in sweep.modes:
+        out.append("| %s | %s | %s | %s |" % (
+            m.label, ", ".join("`%s`" % os.path.relpath(c, sweep.root) for c in m.cfg) or "-",
+            ", ".join("`%s=%s`" % kv for kv in m.overrides) or "-",
+            "; ".join(" ".join("%s=%s" % kv for kv in s) or "(base)" for s in m.settings)))
+
+    out += ["", "## BD-rate", "",
+            "Bjøntegaard delta rate of each mode against each anchor (negative: less rate at "
+            "equal distortion) and delta quality (positive: better), %s interpolation, quality "
+            "= 20·log10(diagonal / distortion) dB; definitions in [rd.md](rd.md#bd-rate)." %
+            options.method.upper(), ""]
+    for distortion in options.distortion:
+        for anchor in options.anchors:
+            entries = [e for e in table if e["distortion"] == distortion and
+                       e["anchor"] == anchor]
+            if not entries:
+                continue
+            out += ["### %s, against %s" % (DISTORTION_NAMES[distortion], labels[anchor]), "",
+                    "| sequence | mode | BD-rate | BD-quality | note |", "|---|---|---|---|---|"]
+            for e in entries:
+                out.append("| %s | %s | %s | %s | %s |" % (
+                    e["sequence"], labels[e["mode"]],
+                    e["bd_rate_percent"] + " %" if e["bd_rate_percent"] else "n/a",
+                    e["bd_quality_db"] + " dB" if e["bd_quality_db"] else "n/a", e["note"]))
+            out.append("")
+
+    for s in sweep.sequences:
+        out += ["## " + s.name, ""]
+        for distortion in options.distortion:
+            stem = "%s/%s-%s" % (files_dir_name, s.name, distortion)
+            out += ["![%s, %s](%s.svg)" % (s.name, DISTORTION_NAMES[distortion], stem), ""]
+        out += ["| mode | setting | kbit/s | bits/vertex/frame | D_A | vertex RMSE | "
+                "Hausdorff max | Hausdorff mean | KG % |",
+                "|---|---|---|---|---|---|---|---|---|"]
+        for r in rows:
+            if r["sequence"] != s.name:
+                continue
+            out.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+                labels[r["mode"]], r["setting"], _fmt(r["kbit_s"], 6),
+                _fmt(r["bits_per_vertex_frame"]), _fmt(r["D_A"]), _fmt(r["vertex_rmse"]),
+                _fmt(r["hausdorff_max"]), _fmt(r["hausdorff_mean"]), _fmt(r["kg_error"])))
+        out.append("")
+        diagonal = next((r["diagonal"] for r in rows if r["sequence"] == s.name), "")
+        out += ["Distances in OBJ units; reference bounding-box diagonal %s." % _fmt(diagonal, 6),
+                ""]
+
+    out += ["## Binaries", "", "SHA-256 of the programs that made these results (part of every "
+            "job's cache key):", ""]
+    for name, digest in sorted(binary_hashes.items()):
+        out.append("- `%s`: `%s`" % (name, digest))
+    out.append("")
+    return "\n".join(out)
+
+
+def write_outputs(sweep, results, binary_hashes, results_dir, page=None, command=None):
+    """Writes <results_dir>/rd.csv and bd.csv, and with `page` also the Markdown page plus a
+    folder beside it (page without .md) holding rd.csv, bd.csv and the plots.
+
+    `results` is aligned with sweep.jobs(); None entries (missing or failed jobs) are left out."""
+    options = ReportOptions(sweep)
+    rows = [row_of(r) for r in results if r is not None]
+    table = bd_table(rows, options, [m.name for m in sweep.modes])
+    rd_csv, bd_csv = csv_text(rows), bd_csv_text(table)
+    write_text_atomic(os.path.join(results_dir, "rd.csv"), rd_csv)
+    write_text_atomic(os.path.join(results_dir, "bd.csv"), bd_csv)
+    if page is None:
+        return rows, table
+    if not page.endswith(".md"):
+        raise SweepError("--out/--report must name a .md page")
+    files_dir = page[:-3]
+    os.makedirs(files_dir, exist_ok=True)
+    write_text_atomic(os.path.join(files_dir, "rd.csv"), rd_csv)
+    write_text_atomic(os.path.join(files_dir, "bd.csv"), bd_csv)
+    labels = {m.name: m.label for m in sweep.modes}
+    for s in sweep.sequences:
+        for distortion in options.distortion:
+            plot(rows, options, labels, distortion, s.name,
+                 os.path.join(files_dir, "%s-%s" % (s.name, distortion)))
+    text = markdown_page(sweep, options, rows, table, binary_hashes,
+                         os.path.basename(files_dir), command or "")
+    write_text_atomic(page, text)
+    return rows, table

@@ -1,0 +1,374 @@
+"""The sweep file (TOML) and its expansion into jobs.
+
+A sweep names sequences, coding modes and, per mode, a list of settings (rate points); every
+sequence x mode x setting is one job. The format is documented in docs/rd.md; in short:
+
+    [sweep]
+    name = "geometry"
+    root = "../.."                 # base of relative paths, relative to this file (default ".")
+    cfg = ["cfg/base.cfg"]         # optional: cfg files for every job
+    results = "build/rd-results/geometry"   # optional default for --results
+    timeout = 3600                 # optional: seconds per encode / decode / metrics command
+
+    [[sequence]]
+    name = "samba"
+    pattern = "../shared/data/meshseq/samba/mesh_%04d.obj.gz"
+    first_frame = 0
+    frame_count = 50
+    frame_rate = 25
+    cfg = ["cfg/per-sequence/samba.cfg"]    # optional
+    set = { GOMSize = 25 }                   # optional
+
+    [[mode]]
+    name = "d3dmc"
+    label = "D3DMC"                          # optional: name in tables and plots
+    cfg = ["cfg/d3dmc-lossy.cfg"]
+    set = { Lambda = -1 }                    # optional
+    settings = [ { MotionQuantStep = 4 }, { MotionQuantStep = 16 } ]
+    sequences = ["samba"]                    # optional: only these sequences
+
+    [report]                                 # optional, see report.py
+    anchors = ["intra"]
+
+The encoder configuration of a job is the merge, later wins, of: [sweep].cfg, the sequence's cfg
+and set, the mode's cfg and set, the setting, and last the sequence's input keys
+(InputMeshPattern, FirstFrame, FrameCount, FrameRate). cfg files are read here with 3dvo-enc's
+rules (`Key : value`, `#` starts a comment) and the merged result goes to the encoder as
+`--Key=value` options, so the job carries its whole configuration and the cache key hashes
+exactly what the encoder receives.
+"""
+
+import hashlib
+import json
+import os
+import tomllib
+
+# Keys the runner sets itself or that name files written by the encoder.
+_RESERVED_KEYS = ("BitstreamFile", "ReconMeshPattern")
+_INPUT_KEYS = ("InputMeshPattern", "FirstFrame", "FrameCount", "FrameRate")
+KEY_FORMAT = "3dvo-rd key 1"
+BINARIES = ("3dvo-enc", "3dvo-dec", "3dvo-metrics")
+
+
+class SweepError(Exception):
+    """A malformed sweep file or cfg file, or a missing input; the message names the place."""
+
+
+def cfg_value(value):
+    """A TOML value as the text of a cfg value."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float) and value.is_integer():
+        return str(int(value))             # 25.0 -> "25"
+    if isinstance(value, (int, float, str)):
+        return str(value)
+    raise TypeError("not a cfg value: %r" % (value,))
+
+
+def read_cfg_file(path):
+    """The (key, value) pairs of a 3dvo cfg file in file order, parsed like
+    OptionTable::parseText: text after '#' is a comment, then `Key : value` split at the first
+    colon, both trimmed."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            lines = f.read().splitlines()
+    except OSError as e:
+        raise SweepError("%s: cannot read cfg file (%s)" % (path, e.strerror)) from None
+    pairs = []
+    for number, line in enumerate(lines, 1):
+        line = line.split("#", 1)[0].strip(" \t\r")
+        if not line:
+            continue
+        if ":" not in line:
+            raise SweepError("%s:%d: expected 'Key : value'" % (path, number))
+        key, value = line.split(":", 1)
+        key = key.strip(" \t\r")
+        if not key:
+            raise SweepError("%s:%d: missing key before ':'" % (path, number))
+        pairs.append((key, value.strip(" \t\r")))
+    return pairs
+
+
+def frame_path(pattern, number):
+    """Frame `number` of a printf pattern with one %d, %Nd or %0Nd (as common/sequence.h)."""
+    return pattern % number
+
+
+class Sequence:
+    def __init__(self, name, pattern, first_frame, frame_count, frame_rate, cfg, overrides):
+        self.name = name
+        self.pattern = pattern
+        self.first_frame = first_frame
+        self.frame_count = frame_count
+        self.frame_rate = frame_rate
+        self.cfg = cfg
+        self.overrides = overrides
+
+    def frame_paths(self):
+        return [frame_path(self.pattern, self.first_frame + k) for k in range(self.frame_count)]
+
+    def input_keys(self):
+        return [("InputMeshPattern", self.pattern), ("FirstFrame", str(self.first_frame)),
+                ("FrameCount", str(self.frame_count)), ("FrameRate", cfg_value(self.frame_rate))]
+
+
+class Mode:
+    def __init__(self, name, label, cfg, overrides, settings, sequences):
+        self.name = name
+        self.label = label
+        self.cfg = cfg
+        self.overrides = overrides
+        self.settings = settings
+        self.sequences = sequences
+
+
+class Job:
+    """One sequence x mode x setting, before execution (the spec is made by Sweep.specs)."""
+
+    def __init__(self, sequence, mode, point, setting, config):
+        self.sequence = sequence
+        self.mode = mode
+        self.point = point
+        self.setting = setting          # list of (key, value text), the rate point's overrides
+        self.config = config            # the merged encoder configuration, dict in merge order
+
+    @property
+    def setting_label(self):
+        return " ".join("%s=%s" % kv for kv in self.setting) or "(base)"
+
+    def record(self):
+        """What a result and a CSV row say about the job."""
+        return {"sequence": self.sequence.name, "mode": self.mode.name,
+                "mode_label": self.mode.label, "point": self.point,
+                "setting": dict(self.setting), "setting_label": self.setting_label,
+                "config": dict(self.config)}
+
+
+class _Table:
+    """A TOML table with the path to it, for error messages and unknown-key checks."""
+
+    def __init__(self, file, where, table):
+        if not isinstance(table, dict):
+            raise SweepError("%s: %s must be a table" % (file, where))
+        self.file, self.where, self.table = file, where, table
+        self.used = set()
+
+    def _fail(self, message):
+        raise SweepError("%s: %s: %s" % (self.file, self.where, message))
+
+    def get(self, key, kind, default=None, required=False):
+        self.used.add(key)
+        if key not in self.table:
+            if required:
+                self._fail("missing key '%s'" % key)
+            return default
+        value = self.table[key]
+        if kind is float and isinstance(value, int) and not isinstance(value, bool):
+            value = float(value)
+        if not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
+            self._fail("'%s' must be %s" % (key, {str: "a string", int: "an integer",
+                                                   float: "a number", list: "an array",
+                                                   dict: "a table"}[kind]))
+        return value
+
+    def finish(self):
+        unknown = sorted(set(self.table) - self.used)
+        if unknown:
+            self._fail("unknown key%s %s" % ("s" if len(unknown) > 1 else "",
+                                              ", ".join("'%s'" % k for k in unknown)))
+
+
+class Sweep:
+    """A parsed sweep file. Relative paths in it are taken from `root` (see the module comment)."""
+
+    def __init__(self, path):
+        self.path = os.path.abspath(path)
+        try:
+            with open(self.path, "rb") as f:
+                data = tomllib.load(f)
+        except OSError as e:
+            raise SweepError("%s: cannot read sweep file (%s)" % (path, e.strerror)) from None
+        except tomllib.TOMLDecodeError as e:
+            raise SweepError("%s: %s" % (path, e)) from None
+        top = _Table(path, "top level", data)
+        head = _Table(path, "[sweep]", top.get("sweep", dict, {}))
+        self.name = head.get("name", str, os.path.splitext(os.path.basename(path))[0])
+        self.root = os.path.normpath(os.path.join(os.path.dirname(self.path),
+                                                  head.get("root", str, ".")))
+        self.cfg = self._paths(head, "cfg")
+        results = head.get("results", str)
+        self.results = self.resolve(results) if results else None
+        self.timeout = head.get("timeout", float, 0.0) or None
+        head.finish()
+
+        self.sequences = []
+        for i, table in enumerate(top.get("sequence", list, [])):
+            t = _Table(path, "[[sequence]] %d" % (i + 1), table)
+            name = t.get("name", str, required=True)
+            t.where = "[[sequence]] '%s'" % name
+            sequence = Sequence(
+                name, self.resolve(t.get("pattern", str, required=True)),
+                t.get("first_frame", int, 0), t.get("frame_count", int, required=True),
+                t.get("frame_rate", float, 25.0), self._paths(t, "cfg"),
+                self._overrides(t, "set"))
+            if sequence.frame_count < 1:
+                t._fail("frame_count must be at least 1")
+            if sequence.pattern.count("%") - 2 * sequence.pattern.count("%%") != 1:
+                t._fail("pattern must hold one %d-style frame number conversion")
+            t.finish()
+            self.sequences.append(sequence)
+        names = [s.name for s in self.sequences]
+        if not names:
+            top._fail("no [[sequence]]")
+        if len(set(names)) != len(names):
+            top._fail("two sequences share a name")
+
+        self.modes = []
+        for i, table in enumerate(top.get("mode", list, [])):
+            t = _Table(path, "[[mode]] %d" % (i + 1), table)
+            name = t.get("name", str, required=True)
+            t.where = "[[mode]] '%s'" % name
+            settings = []
+            for j, setting in enumerate(t.get("settings", list, [{}])):
+                if not isinstance(setting, dict):
+                    t._fail("settings[%d] must be a table of cfg keys" % j)
+                settings.append(self._pairs(t, setting, "settings[%d]" % j))
+            only = t.get("sequences", list)
+            for s in only or []:
+                if s not in names:
+                    t._fail("sequences: no sequence named '%s'" % s)
+            self.modes.append(Mode(name, t.get("label", str, name), self._paths(t, "cfg"),
+                                   self._overrides(t, "set"), settings, only))
+            t.finish()
+        if not self.modes:
+            top._fail("no [[mode]]")
+        if len({m.name for m in self.modes}) != len(self.modes):
+            top._fail("two modes share a name")
+
+        self.report = top.get("report", dict, {})
+        self._report_table = _Table(path, "[report]", self.report)
+        top.finish()
+
+    def resolve(self, path):
+        return os.path.normpath(os.path.join(self.root, path))
+
+    def _paths(self, table, key):
+        paths = table.get(key, list, [])
+        for p in paths:
+            if not isinstance(p, str):
+                table._fail("'%s' must be an array of file names" % key)
+        return [self.resolve(p) for p in paths]
+
+    def _pairs(self, table, values, where):
+        pairs = []
+        for key, value in values.items():
+            if key in _RESERVED_KEYS or key in _INPUT_KEYS:
+                table._fail("%s: %s is set by the runner (or by the [[sequence]] table)"
+                            % (where, key))
+            try:
+                pairs.append((key, cfg_value(value)))
+            except TypeError:
+                table._fail("%s: %s must be a string, number or boolean" % (where, key))
+        return pairs
+
+    def _overrides(self, table, key):
+        return self._pairs(table, table.get(key, dict, {}), key)
+
+    def report_table(self):
+        """The [report] table, for report.py (which checks its keys)."""
+        return self._report_table
+
+    def jobs(self):
+        """All jobs in sweep order: sequences, then modes, then settings, as listed."""
+        cfg_cache = {}
+
+        def cfg_pairs(path):
+            if path not in cfg_cache:
+                cfg_cache[path] = read_cfg_file(path)
+            return cfg_cache[path]
+
+        jobs = []
+        for sequence in self.sequences:
+            for mode in self.modes:
+                if mode.sequences is not None and sequence.name not in mode.sequences:
+                    continue
+                for point, setting in enumerate(mode.settings):
+                    pairs = []
+                    for path in self.cfg + sequence.cfg:
+                        pairs += cfg_pairs(path)
+                    pairs += sequence.overrides
+                    for path in mode.cfg:
+                        pairs += cfg_pairs(path)
+                    pairs += mode.overrides + setting + sequence.input_keys()
+                    config = {}
+                    for key, value in pairs:
+                        if key not in _RESERVED_KEYS:
+                            config[key] = value
+                    jobs.append(Job(sequence, mode, point, setting, config))
+        return jobs
+
+
+def sha256_file(path):
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+class Identity:
+    """Hashes of the binaries and inputs, each file hashed once per run."""
+
+    def __init__(self, bin_dir):
+        self.binaries = {}
+        for name in BINARIES:
+            path = os.path.join(bin_dir, name)
+            if not os.access(path, os.X_OK):
+                raise SweepError("%s: no such executable (build 3dvo first, or pass --bin-dir)"
+                                 % path)
+            self.binaries[name] = os.path.abspath(path)
+        self.binary_hashes = {name: sha256_file(p) for name, p in self.binaries.items()}
+        self._inputs = {}
+
+    def input_hashes(self, sequence):
+        if sequence.name not in self._inputs:
+            hashes = []
+            for path in sequence.frame_paths():
+                try:
+                    hashes.append(sha256_file(path))
+                except OSError as e:
+                    raise SweepError("sequence '%s': cannot read input frame %s (%s)"
+                                     % (sequence.name, path, e.strerror)) from None
+            self._inputs[sequence.name] = hashes
+        return self._inputs[sequence.name]
+
+    def key(self, job):
+        """The cache key: sha256 of the binaries' contents, the merged encoder configuration (less
+        the input path, which the input frames' content hashes replace) and the metrics options.
+        Moving the data or the binaries keeps the key; changing a byte of either changes it."""
+        config = {k: v for k, v in job.config.items() if k != "InputMeshPattern"}
+        material = {
+            "format": KEY_FORMAT,
+            "binaries": self.binary_hashes,
+            "config": config,
+            "inputs": self.input_hashes(job.sequence),
+            "metrics": {"Correspondence": "nearest", "GroupSize": "GOMSize"},
+        }
+        text = json.dumps(material, sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def make_spec(job, identity, key, results_dir, timeout=None, scratch_dir=None, force=False):
+    """The plain-dict job description that job.run_job takes."""
+    return {
+        "key": key,
+        "results_dir": os.path.abspath(results_dir),
+        "scratch_dir": scratch_dir,
+        "timeout": timeout,
+        "force": force,
+        "binaries": identity.binaries,
+        "encoder_args": ["--%s=%s" % kv for kv in job.config.items()],
+        "reference": {"pattern": job.sequence.pattern, "first_frame": job.sequence.first_frame,
+                      "frame_count": job.sequence.frame_count},
+        "record": job.record(),
+    }

@@ -1,0 +1,1 @@
+"""Tests of 3dvo-rd (python3 -m unittest, run from tools/rd; registered with ctest)."""

@@ -1,0 +1,178 @@
+"""Sweep files: expansion into jobs, configuration merge order, errors, cache keys."""
+
+import os
+import textwrap
+
+from tests.support import TempDirTestCase
+from tdvo_rd.sweep import Identity, Sweep, SweepError, read_cfg_file
+
+
+class SweepTest(TempDirTestCase):
+    def write(self, name, text):
+        path = os.path.join(self.tmp, name)
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        with open(path, "w") as f:
+            f.write(textwrap.dedent(text))
+        return path
+
+    def make_inputs(self):
+        for seq in ("a", "b"):
+            for k in range(1, 4):
+                self.write("data/%s/%d.obj" % (seq, k), "v 0 0 %d\n" % k)
+
+    def sweep_text(self, extra_mode=""):
+        return """
+            [sweep]
+            root = ".."
+            cfg = ["cfg/base.cfg"]
+
+            [[sequence]]
+            name = "a"
+            pattern = "data/a/%d.obj"
+            first_frame = 1
+            frame_count = 3
+            frame_rate = 30
+            cfg = ["cfg/seq-a.cfg"]
+            set = { GOMSize = 3 }
+
+            [[sequence]]
+            name = "b"
+            pattern = "data/b/%d.obj"
+            first_frame = 2
+            frame_count = 2
+
+            [[mode]]
+            name = "intra"
+            cfg = ["cfg/intra.cfg"]
+            settings = [ { GridBits = 8 }, { GridBits = 10 } ]
+
+            [[mode]]
+            name = "d3dmc"
+            label = "D3DMC"
+            cfg = ["cfg/d3dmc.cfg"]
+            set = { Lambda = 0.5 }
+            settings = [ { MotionQuantStep = 4 }, { MotionQuantStep = 2 }, { MotionQuantStep = 1 } ]
+            sequences = ["a"]
+            """ + extra_mode
+
+    def setUp(self):
+        super().setUp()
+        self.make_inputs()
+        self.write("cfg/base.cfg", "GridBits : 11   # every job\nDracoSpeed : 3\n")
+        self.write("cfg/seq-a.cfg", "GOMSize : 5\nInputMeshPattern : elsewhere/%d.obj\n")
+        self.write("cfg/intra.cfg", "PMeshMode : intra\nGOMSize : 1\n")
+        self.write("cfg/d3dmc.cfg", "PMeshMode : d3dmc\nLambda : 7  # replaced by set\n")
+        self.path = self.write("sweeps/s.toml", self.sweep_text())
+        self.bin = os.path.join(self.tmp, "bin")
+        os.makedirs(self.bin)
+        for name in ("3dvo-enc", "3dvo-dec", "3dvo-metrics"):
+            self.write_binary(name, "#!/bin/sh\n# %s\n" % name)
+
+    def write_binary(self, name, text):
+        path = os.path.join(self.bin, name)
+        with open(path, "w") as f:
+            f.write(text)
+        os.chmod(path, 0o755)
+
+    def test_expansion_order_and_count(self):
+        jobs = Sweep(self.path).jobs()
+        self.assertEqual(
+            [(j.sequence.name, j.mode.name, j.point, j.setting_label) for j in jobs],
+            [("a", "intra", 0, "GridBits=8"), ("a", "intra", 1, "GridBits=10"),
+             ("a", "d3dmc", 0, "MotionQuantStep=4"), ("a", "d3dmc", 1, "MotionQuantStep=2"),
+             ("a", "d3dmc", 2, "MotionQuantStep=1"),
+             ("b", "intra", 0, "GridBits=8"), ("b", "intra", 1, "GridBits=10")])
+
+    def test_merge_order(self):
+        jobs = Sweep(self.path).jobs()
+        root = os.path.normpath(self.tmp)
+        # Sequence cfg then set, then the mode's cfg (intra.cfg's GOMSize 1 wins), the setting,
+        # and the sequence's input keys last (over the InputMeshPattern of seq-a.cfg).
+        self.assertEqual(jobs[0].config, {
+            "GridBits": "8", "DracoSpeed": "3", "GOMSize": "1",
+            "InputMeshPattern": os.path.join(root, "data/a/%d.obj"), "PMeshMode": "intra",
+            "FirstFrame": "1", "FrameCount": "3", "FrameRate": "30"})
+        d3dmc = jobs[3].config
+        self.assertEqual(d3dmc["GOMSize"], "3")          # sequence set over seq-a.cfg
+        self.assertEqual(d3dmc["Lambda"], "0.5")         # mode set over the mode's cfg
+        self.assertEqual(d3dmc["MotionQuantStep"], "2")
+        self.assertEqual(d3dmc["GridBits"], "11")        # from the sweep's base cfg
+        self.assertEqual(jobs[5].config["FrameRate"], "25")  # default frame rate
+        self.assertEqual(jobs[3].mode.label, "D3DMC")
+
+    def test_cfg_file_rules(self):
+        path = self.write("x.cfg", "# comment\n\n  Key :  a:b  # c\nOther:1\n")
+        self.assertEqual(read_cfg_file(path), [("Key", "a:b"), ("Other", "1")])
+        bad = self.write("bad.cfg", "GridBits 12\n")
+        with self.assertRaisesRegex(SweepError, "bad.cfg:1: expected 'Key : value'"):
+            read_cfg_file(bad)
+
+    def test_errors_name_the_place(self):
+        cases = [
+            ("[[mode]]\nname = \"x\"\nsettings = [ { BitstreamFile = \"a\" } ]\n",
+             "'x'.*BitstreamFile is set by the runner"),
+            ("[[mode]]\nname = \"y\"\nsequences = [\"nope\"]\n", "no sequence named 'nope'"),
+            ("[[mode]]\nname = \"z\"\nsetings = []\n",
+             "\\[\\[mode\\]\\] 'z': unknown key 'setings'"),
+            ("[[mode]]\nname = \"intra\"\n", "two modes share a name"),
+        ]
+        for extra, message in cases:
+            with self.subTest(message=message):
+                path = self.write("sweeps/bad.toml", self.sweep_text(extra))
+                with self.assertRaisesRegex(SweepError, message):
+                    Sweep(path).jobs()
+        path = self.write("sweeps/syntax.toml", "[sweep\n")
+        with self.assertRaisesRegex(SweepError, "syntax.toml"):
+            Sweep(path)
+
+    def test_missing_cfg_and_input_are_errors(self):
+        os.unlink(os.path.join(self.tmp, "cfg/intra.cfg"))
+        with self.assertRaisesRegex(SweepError, "intra.cfg: cannot read cfg file"):
+            Sweep(self.path).jobs()
+        self.write("cfg/intra.cfg", "PMeshMode : intra\n")
+        os.unlink(os.path.join(self.tmp, "data/b/3.obj"))
+        identity = Identity(self.bin)
+        jobs = Sweep(self.path).jobs()
+        with self.assertRaisesRegex(SweepError, "sequence 'b': cannot read input frame .*3.obj"):
+            identity.key(jobs[-1])
+
+    def test_keys_follow_content_not_paths(self):
+        jobs = Sweep(self.path).jobs()
+        keys = [Identity(self.bin).key(j) for j in jobs]
+        self.assertEqual(len(set(keys)), len(keys))
+        self.assertEqual(keys, [Identity(self.bin).key(j) for j in Sweep(self.path).jobs()])
+
+        # A comment in a cfg file changes nothing; a value does.
+        self.write("cfg/intra.cfg", "PMeshMode : intra   # edited\nGOMSize : 1\n")
+        self.assertEqual([Identity(self.bin).key(j) for j in Sweep(self.path).jobs()], keys)
+        self.write("cfg/intra.cfg", "PMeshMode : intra\nGOMSize : 2\n")
+        changed = [Identity(self.bin).key(j) for j in Sweep(self.path).jobs()]
+        self.assertEqual([a == b for a, b in zip(keys, changed)],
+                         [False, False, True, True, True, False, False])
+        self.write("cfg/intra.cfg", "PMeshMode : intra\nGOMSize : 1\n")
+
+        # Moving the input data keeps the keys; changing a frame's bytes changes its sequence's.
+        os.rename(os.path.join(self.tmp, "data"), os.path.join(self.tmp, "moved"))
+        self.write("sweeps/s.toml", self.sweep_text().replace("data/", "moved/"))
+        self.assertEqual([Identity(self.bin).key(j) for j in Sweep(self.path).jobs()], keys)
+        self.write("moved/b/2.obj", "v 0 0 9\n")
+        changed = [Identity(self.bin).key(j) for j in Sweep(self.path).jobs()]
+        self.assertEqual(changed[:5], keys[:5])
+        self.assertNotEqual(changed[5], keys[5])
+        self.assertNotEqual(changed[6], keys[6])
+
+        # Any binary's content is part of every key.
+        self.write("moved/b/2.obj", "v 0 0 2\n")
+        self.write_binary("3dvo-metrics", "#!/bin/sh\n# rebuilt\n")
+        changed = [Identity(self.bin).key(j) for j in Sweep(self.path).jobs()]
+        self.assertTrue(all(a != b for a, b in zip(keys, changed)))
+
+    def test_missing_binary_is_an_error(self):
+        os.unlink(os.path.join(self.bin, "3dvo-dec"))
+        with self.assertRaisesRegex(SweepError, "3dvo-dec: no such executable"):
+            Identity(self.bin)
+
+
+if __name__ == "__main__":
+    import unittest
+    unittest.main()
