@@ -27,13 +27,14 @@ class CabacWriterIo {
   // A signed value as UEGk (cabac.h), |value| <= maxAbs.
   void signedUeg(const char* name, ContextModel* ctxs, int numCtx, int k, uint32_t uCoff,
                  int32_t& value, int32_t maxAbs) {
-    require(value >= -maxAbs && value <= maxAbs, std::string(name) + " out of range");
+    if (value < -maxAbs || value > maxAbs) require(false, std::string(name) + " out of range");
     if (trace_) std::fprintf(trace_, "  %-32s = %d\n", name, value);
     encodeSignedUEGk(encoder_, ctxs, numCtx, value, k, uCoff);
   }
-  void require(bool condition, const std::string& what) const {
-    if (!condition) throw std::logic_error("writing: " + what);
+  void require(bool condition, const char* what) const {
+    if (!condition) throw std::logic_error(std::string("writing: ") + what);
   }
+  void require(bool condition, const std::string& what) const { require(condition, what.c_str()); }
   // Ends the payload (terminate bin 1, flush) and returns it.
   std::vector<uint8_t> finish() { return encoder_.finish(); }
   uint64_t binCount() const { return encoder_.binCount(); }
@@ -54,19 +55,22 @@ class CabacReaderIo {
     value = decoder_.decodeBin(ctx);
     if (trace_) std::fprintf(trace_, "  %-32s = %u\n", name, value);
   }
+  // Runs three times per coded vertex: the error paths are out of line and build their
+  // messages only when taken, so that this stays small enough to inline.
   void signedUeg(const char* name, ContextModel* ctxs, int numCtx, int k, uint32_t uCoff,
                  int32_t& value, int32_t maxAbs) {
     try {
       value = decodeSignedUEGk(decoder_, ctxs, numCtx, k, uCoff);
     } catch (const Error& e) {
-      fail(std::string(name) + ": " + e.what());
+      failElement(name, e.what());
     }
     if (trace_) std::fprintf(trace_, "  %-32s = %d\n", name, value);
-    require(value >= -maxAbs && value <= maxAbs, std::string(name) + " = " + std::to_string(value) +
-                                                     " out of range [" + std::to_string(-maxAbs) +
-                                                     ", " + std::to_string(maxAbs) + "]");
+    if (value < -maxAbs || value > maxAbs) failRange(name, value, maxAbs);
     // A payload read past its end decodes to zeros forever; stop as soon as that happens.
-    require(!decoder_.overrun(), std::string(name) + ": payload ends early (truncated)");
+    if (decoder_.overrun()) failElement(name, "payload ends early (truncated)");
+  }
+  void require(bool condition, const char* what) const {
+    if (!condition) fail(what);
   }
   void require(bool condition, const std::string& what) const {
     if (!condition) fail(what);
@@ -75,12 +79,22 @@ class CabacReaderIo {
     throw Error(context_ + ", payload byte " + std::to_string(decoder_.bytesConsumed()) + ": " +
                 what);
   }
+  [[noreturn]] __attribute__((noinline, cold)) void failElement(const char* name,
+                                                                const char* what) const {
+    fail(std::string(name) + ": " + what);
+  }
+  [[noreturn]] __attribute__((noinline, cold)) void failRange(const char* name, int32_t value,
+                                                              int32_t maxAbs) const {
+    fail(std::string(name) + " = " + std::to_string(value) + " out of range [" +
+         std::to_string(-maxAbs) + ", " + std::to_string(maxAbs) + "]");
+  }
   // Reads the final terminate bin and checks that the payload was used exactly.
   void finish() {
     require(decoder_.decodeTerminate() == 1, "missing end of payload (terminate bin)");
     require(!decoder_.overrun(), "payload ends early (truncated)");
-    require(decoder_.codewordEnd() == size_, std::to_string(size_ - decoder_.codewordEnd()) +
-                                                 " unexpected bytes after the payload's end");
+    if (decoder_.codewordEnd() != size_)
+      fail(std::to_string(size_ - decoder_.codewordEnd()) +
+           " unexpected bytes after the payload's end");
   }
 
  private:

@@ -26,7 +26,7 @@
 #pragma once
 
 #include <algorithm>
-#include <numeric>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -66,41 +66,60 @@ struct NoDecisions {
   int32_t residual(uint32_t, int, int32_t) { return 0; }
 };
 
-// Residual context class of component c of vertex v (see PMeshContexts::residual):
-// 0 no neighbour has a residual yet; 1 all such residuals are 0; 2 mean |r| < 2; 3 mean |r| < 6;
-// 4 otherwise.
-inline int residualClass(const GomTopology& t, uint32_t v, int c, const std::vector<Vec3i>& q,
-                         const std::vector<uint8_t>& hasResidual) {
-  int64_t count = 0, sum = 0;
-  for (uint32_t i = t.neighbourStart[v]; i < t.neighbourStart[v + 1]; ++i) {
-    const uint32_t u = t.neighbours[i];
-    if (!hasResidual[u]) continue;
-    ++count;
-    sum += q[u][c] < 0 ? -int64_t{q[u][c]} : q[u][c];
-  }
+// Residual context class (see PMeshContexts::residual) from the 1-ring neighbours of a vertex
+// that already have a decoded residual: `count` of them, `sumAbs` the sum of their |residual|
+// in the component coded. 0 no such neighbour; 1 all their residuals are 0; 2 mean |r| < 2;
+// 3 mean |r| < 6; 4 otherwise.
+inline int residualClass(int64_t count, int64_t sumAbs) {
   if (count == 0) return 0;
-  if (sum == 0) return 1;
-  if (sum < 2 * count) return 2;
-  if (sum < 6 * count) return 3;
+  if (sumAbs == 0) return 1;
+  if (sumAbs < 2 * count) return 2;
+  if (sumAbs < 6 * count) return 3;
   return 4;
 }
 
-// Codes one P mesh. `previous` is the previous decoded frame's positions (GOM order);
-// returns the new positions. Io is CabacWriterIo or CabacReaderIo; Decider supplies the
-// encoder's choices (NoDecisions when reading). The Io's finish() is left to the caller.
+// What codePMesh knows about one vertex while it codes a P mesh, stored in breadth-first rank
+// order (GomTopology::rank). 32 bytes, so that the neighbour loops of pass 2 read one cache
+// line per neighbour, and neighbours in rank order are near each other. Two invariants let
+// those loops add without branching: a vertex whose motion is not final yet has motion
+// (0, 0, 0), and absResidual is (0, 0, 0) unless the vertex has a decoded residual.
+struct PMeshVertexState {
+  Vec3i motion{0, 0, 0};       // m[v]
+  Vec3i absResidual{0, 0, 0};  // |pm_residual| per component once decoded
+  uint8_t available = 1;       // motion final (every vertex outside RESIDUAL leaves)
+  uint8_t hasResidual = 0;     // decoded in pass 2
+  uint8_t inResidualLeaf = 0;  // coded in pass 2
+  uint8_t padding[5] = {};
+};
+static_assert(sizeof(PMeshVertexState) == 32, "one record per half cache line");
+
+// Buffers of codePMesh, kept by the caller from one P mesh to the next: once they have grown
+// to the GOM's vertex count, coding further P meshes allocates nothing.
+struct PMeshWorkspace {
+  std::vector<PMeshVertexState> vertices;
+  MortonOctree octree;
+};
+
+// Codes one P mesh. `previous` is the previous decoded frame's positions (GOM order); the new
+// positions are written to `positions` (resized to the vertex count; must not be `previous`).
+// Io is CabacWriterIo or CabacReaderIo; Decider supplies the encoder's choices (NoDecisions
+// when reading). The Io's finish() is left to the caller.
 template <class Io, class Decider>
-std::vector<Vec3i> codePMesh(Io& io, Decider& decider, const GomTopology& topology,
-                             const std::vector<Vec3i>& previous, const PMeshParams& params) {
+void codePMesh(Io& io, Decider& decider, const GomTopology& topology,
+               const std::vector<Vec3i>& previous, const PMeshParams& params, PMeshWorkspace& work,
+               std::vector<Vec3i>& positions) {
   const uint32_t n = topology.numVertices;
   io.require(previous.size() == n, "previous frame and GOM topology disagree");
   PMeshContexts ctx;
-  std::vector<Vec3i> motion(n, Vec3i{0, 0, 0});
-  std::vector<uint8_t> inResidualLeaf(n, 0);
+  std::vector<PMeshVertexState>& state = work.vertices;
+  state.assign(n, PMeshVertexState());
 
-  // Pass 1: octree clustering.
-  std::vector<uint32_t> cells(n);
-  std::iota(cells.begin(), cells.end(), 0u);
-  std::vector<uint32_t> scratch;
+  // Pass 1: octree clustering. The cells are ranges of the Morton-sorted vertices (the order
+  // inside a leaf does not matter: every vertex of a leaf is treated alike).
+  const uint32_t* const rank = topology.rank.data();
+  MortonOctree& octree = work.octree;
+  octree.build(previous, params.gridBits);
+  uint32_t* const cells = octree.vertices();
   Vec3i lastRep{0, 0, 0};
   int previousMode = 0;
   auto leaf = [&](uint32_t* begin, uint32_t* end) {
@@ -130,59 +149,97 @@ std::vector<Vec3i> codePMesh(Io& io, Decider& decider, const GomTopology& topolo
       }
       lastRep = rep;
       for (uint32_t* it = begin; it != end; ++it)
-        motion[*it] = rep;
+        state[rank[*it]].motion = rep;
     } else if (mode == LeafMode::kResidual) {
-      for (uint32_t* it = begin; it != end; ++it)
-        inResidualLeaf[*it] = 1;
+      for (uint32_t* it = begin; it != end; ++it) {
+        PMeshVertexState& sv = state[rank[*it]];
+        sv.inResidualLeaf = 1;
+        sv.available = 0;
+      }
     }
   };
-  auto cell = [&](auto& self, uint32_t* begin, uint32_t* end, int depth) -> void {
+  auto cell = [&](auto& self, uint32_t begin, uint32_t end, int depth) -> void {
     unsigned split = 0;
     if (end - begin > 1 && depth < params.maxDepth) {
-      if (!Io::kReading) split = decider.split(begin, end, depth);
+      if (!Io::kReading) split = decider.split(cells + begin, cells + end, depth);
       io.bin("pm_split_flag", ctx.split[std::min(depth, PMeshContexts::kSplitDepthClasses - 1)],
              split);
     }
-    if (!split) return leaf(begin, end);
+    if (!split) return leaf(cells + begin, cells + end);
     std::array<uint32_t, 9> bounds;
-    OctreePartition::split(previous, begin, end, params.gridBits, depth, bounds, scratch);
+    octree.split(begin, end, depth, bounds);
     for (int o = 0; o < 8; ++o)
-      if (bounds[o + 1] > bounds[o])
-        self(self, begin + bounds[o], begin + bounds[o + 1], depth + 1);
+      if (bounds[o + 1] > bounds[o]) self(self, bounds[o], bounds[o + 1], depth + 1);
   };
-  if (n > 0) cell(cell, cells.data(), cells.data() + n, 0);
+  if (n > 0) cell(cell, 0u, n, 0);
 
-  // Pass 2: residuals in breadth-first order.
-  std::vector<uint8_t> available(n);
-  for (uint32_t v = 0; v < n; ++v)
-    available[v] = !inResidualLeaf[v];
-  std::vector<Vec3i> q(n, Vec3i{0, 0, 0});
-  std::vector<uint8_t> hasResidual(n, 0);
+  // Pass 2: residuals in breadth-first order, i.e. rank by rank. The prediction is
+  // predictMotion's (same sums, same rounding), fused with the residual context statistics
+  // into one neighbour loop.
   Vec3i fallback{0, 0, 0};
   static const char* const kResidualNames[3] = {"pm_residual_x", "pm_residual_y", "pm_residual_z"};
-  const int32_t maxResidual = kMaxMotion;
-  for (uint32_t v : topology.order) {
-    if (!inResidualLeaf[v]) continue;
-    const Vec3i prediction = predictMotion(topology, v, motion, available, fallback);
-    for (int c = 0; c < 3; ++c) {
-      int32_t r = 0;
-      if (!Io::kReading) r = decider.residual(v, c, prediction[c]);
-      const int cls = residualClass(topology, v, c, q, hasResidual);
-      io.signedUeg(kResidualNames[c], ctx.residual[cls][c], PMeshContexts::kResidualCtx,
-                   PMeshContexts::kResidualK, PMeshContexts::kResidualCutoff, r, maxResidual);
-      const int64_t m = int64_t{prediction[c]} + int64_t{params.quantStep} * r;
-      io.require(m >= -kMaxMotion && m <= kMaxMotion, "decoded motion out of range");
-      motion[v][c] = static_cast<int32_t>(m);
-      q[v][c] = r;
+  const uint32_t* const neighbourStart = topology.rankNeighbourStart.data();
+  const uint32_t* const neighbours = topology.rankNeighbours.data();
+  const uint32_t* const wingStart = topology.rankWingStart.data();
+  const std::array<uint32_t, 3>* const wings = topology.rankWings.data();
+  for (uint32_t r = 0; r < n; ++r) {
+    PMeshVertexState& sv = state[r];
+    if (!sv.inResidualLeaf) continue;
+    int64_t k = 0, withResidual = 0, sN[3] = {0, 0, 0}, sumAbs[3] = {0, 0, 0};
+    for (uint32_t i = neighbourStart[r]; i < neighbourStart[r + 1]; ++i) {
+      const PMeshVertexState& u = state[neighbours[i]];
+      k += u.available;
+      withResidual += u.hasResidual;
+      for (int c = 0; c < 3; ++c) {
+        sN[c] += u.motion[c];  // 0 unless available
+        sumAbs[c] += u.absResidual[c];
+      }
     }
-    available[v] = 1;
-    hasResidual[v] = 1;
-    fallback = motion[v];
+    Vec3i prediction = fallback;
+    if (k > 0) {
+      int64_t kp = 0, sP[3] = {0, 0, 0};
+      for (uint32_t i = wingStart[r]; i < wingStart[r + 1]; ++i) {
+        const PMeshVertexState& a = state[wings[i][0]];
+        const PMeshVertexState& b = state[wings[i][1]];
+        const PMeshVertexState& o = state[wings[i][2]];
+        const int64_t mask = -int64_t{a.available & b.available & o.available};
+        kp += mask & 1;
+        for (int c = 0; c < 3; ++c)
+          sP[c] += mask & (int64_t{a.motion[c]} + b.motion[c] - o.motion[c]);
+      }
+      for (int c = 0; c < 3; ++c)
+        prediction[c] = static_cast<int32_t>(
+            kp == 0 ? roundDiv(sN[c], k) : roundDiv(kp * sN[c] + k * sP[c], 2 * k * kp));
+    }
+    const uint32_t v = topology.order[r];
+    for (int c = 0; c < 3; ++c) {
+      int32_t residual = 0;
+      if (!Io::kReading) residual = decider.residual(v, c, prediction[c]);
+      const int cls = residualClass(withResidual, sumAbs[c]);
+      io.signedUeg(kResidualNames[c], ctx.residual[cls][c], PMeshContexts::kResidualCtx,
+                   PMeshContexts::kResidualK, PMeshContexts::kResidualCutoff, residual, kMaxMotion);
+      const int64_t m = int64_t{prediction[c]} + int64_t{params.quantStep} * residual;
+      io.require(m >= -kMaxMotion && m <= kMaxMotion, "decoded motion out of range");
+      sv.motion[c] = static_cast<int32_t>(m);
+      sv.absResidual[c] = residual < 0 ? -residual : residual;
+    }
+    sv.available = 1;
+    sv.hasResidual = 1;
+    fallback = sv.motion;
   }
 
-  std::vector<Vec3i> positions(n);
+  positions.resize(n);
   for (uint32_t v = 0; v < n; ++v)
-    positions[v] = applyMotion(previous[v], motion[v], params.gridBits);
+    positions[v] = applyMotion(previous[v], state[rank[v]].motion, params.gridBits);
+}
+
+// As above, with buffers of its own (convenient for single P meshes and tests).
+template <class Io, class Decider>
+std::vector<Vec3i> codePMesh(Io& io, Decider& decider, const GomTopology& topology,
+                             const std::vector<Vec3i>& previous, const PMeshParams& params) {
+  PMeshWorkspace work;
+  std::vector<Vec3i> positions;
+  codePMesh(io, decider, topology, previous, params, work, positions);
   return positions;
 }
 
@@ -197,12 +254,13 @@ struct TemporalDpcmContexts {
   ContextModel residual[kClasses][3][kCtx];
 };
 
+// Writes the new positions to `positions` (resized; must not be `previous`).
 template <class Io, class Decider>
-std::vector<Vec3i> codeTemporalDpcm(Io& io, Decider& decider, const std::vector<Vec3i>& previous,
-                                    const PMeshParams& params) {
+void codeTemporalDpcm(Io& io, Decider& decider, const std::vector<Vec3i>& previous,
+                      const PMeshParams& params, std::vector<Vec3i>& positions) {
   TemporalDpcmContexts ctx;
   static const char* const kNames[3] = {"pt_residual_x", "pt_residual_y", "pt_residual_z"};
-  std::vector<Vec3i> positions(previous.size());
+  positions.resize(previous.size());
   Vec3i last{0, 0, 0};
   for (uint32_t v = 0; v < previous.size(); ++v) {
     Vec3i motion;
@@ -220,6 +278,13 @@ std::vector<Vec3i> codeTemporalDpcm(Io& io, Decider& decider, const std::vector<
     }
     positions[v] = applyMotion(previous[v], motion, params.gridBits);
   }
+}
+
+template <class Io, class Decider>
+std::vector<Vec3i> codeTemporalDpcm(Io& io, Decider& decider, const std::vector<Vec3i>& previous,
+                                    const PMeshParams& params) {
+  std::vector<Vec3i> positions;
+  codeTemporalDpcm(io, decider, previous, params, positions);
   return positions;
 }
 

@@ -28,6 +28,48 @@ enum class PMeshMode : uint8_t {
   kAfxic = 2,  // one I mesh, then P meshes as per-vertex temporal DPCM (AFX-IC-style reference)
 };
 
+constexpr uint16_t kMaxCameras = 64;
+constexpr uint16_t kMaxImageSize = 16384;
+
+// One calibrated camera (docs/cameras.md conventions) and the texture box its pictures cover.
+struct CameraParameters {
+  uint16_t cam_width = 0, cam_height = 0;  // image size, pixels
+  double cam_fx = 1, cam_fy = 1, cam_cx = 0, cam_cy = 0;
+  double cam_k1 = 0, cam_k2 = 0, cam_p1 = 0, cam_p2 = 0, cam_k3 = 0;
+  double cam_rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // world -> camera, row-major
+  double cam_translation[3] = {0, 0, 0};
+  uint16_t tx_box_x = 0, tx_box_y = 0;           // multiples of 16
+  uint16_t tx_box_width = 16, tx_box_height = 16;  // multiples of 16
+};
+
+template <class Io>
+void transfer(Io& io, CameraParameters& c) {
+  io.u16("cam_width", c.cam_width, 2, kMaxImageSize);
+  io.u16("cam_height", c.cam_height, 2, kMaxImageSize);
+  double* const values[] = {&c.cam_fx, &c.cam_fy, &c.cam_cx, &c.cam_cy, &c.cam_k1,
+                            &c.cam_k2, &c.cam_p1, &c.cam_p2, &c.cam_k3};
+  static const char* const kNames[] = {"cam_fx", "cam_fy", "cam_cx", "cam_cy", "cam_k1",
+                                       "cam_k2", "cam_p1", "cam_p2", "cam_k3"};
+  for (int i = 0; i < 9; ++i) io.f64(kNames[i], *values[i]);
+  for (double& r : c.cam_rotation) io.f64("cam_rotation", r);
+  for (double& t : c.cam_translation) io.f64("cam_translation", t);
+  bool finite = true;
+  for (double* v : values) finite = finite && std::isfinite(*v);
+  for (double r : c.cam_rotation) finite = finite && std::isfinite(r);
+  for (double t : c.cam_translation) finite = finite && std::isfinite(t);
+  io.require(finite, "camera parameters must be finite");
+  io.require(c.cam_fx > 0 && c.cam_fy > 0, "cam_fx and cam_fy must be positive");
+  const uint32_t paddedWidth = (c.cam_width + 15u) / 16 * 16;
+  const uint32_t paddedHeight = (c.cam_height + 15u) / 16 * 16;
+  io.u16("tx_box_x", c.tx_box_x, 0, paddedWidth - 16);
+  io.u16("tx_box_y", c.tx_box_y, 0, paddedHeight - 16);
+  io.u16("tx_box_width", c.tx_box_width, 16, paddedWidth - c.tx_box_x);
+  io.u16("tx_box_height", c.tx_box_height, 16, paddedHeight - c.tx_box_y);
+  io.require(c.tx_box_x % 16 == 0 && c.tx_box_y % 16 == 0 && c.tx_box_width % 16 == 0 &&
+                 c.tx_box_height % 16 == 0,
+             "the texture box must be whole 16x16 macroblocks");
+}
+
 struct SequenceHeader {
   uint16_t sh_syntax_version = kSyntaxVersion;
   uint32_t sh_frame_count = 0;
@@ -35,6 +77,7 @@ struct SequenceHeader {
   uint8_t sh_grid_bits = 12;
   double sh_grid_origin[3] = {0, 0, 0};
   double sh_grid_step = 1.0;
+  std::vector<CameraParameters> cameras;  // sh_num_cameras; textures are coded when > 0
 };
 
 template <class Io>
@@ -58,6 +101,10 @@ void transfer(Io& io, SequenceHeader& sh) {
              "sh_grid_origin must be finite");
   io.require(std::isfinite(sh.sh_grid_step) && sh.sh_grid_step > 0,
              "sh_grid_step must be finite and positive");
+  uint16_t numCameras = static_cast<uint16_t>(sh.cameras.size());
+  io.u16("sh_num_cameras", numCameras, 0, kMaxCameras);
+  if (Io::kReading) sh.cameras.resize(numCameras);
+  for (CameraParameters& c : sh.cameras) transfer(io, c);
 }
 
 constexpr uint16_t kMaxMotionQuantStep = 4096;
@@ -122,6 +169,21 @@ template <class Io>
 void transfer(Io& io, PMeshUnit& pm) {
   io.u32("pm_frame", pm.pm_frame, 0, kMaxFrames - 1);
   io.rest("pm_cabac_payload", pm.pm_cabac_payload);
+}
+
+// One camera's texture picture of one frame: an H.264 access unit (Annex B) of the camera's
+// texture box (docs/bitstream.md, "Textures").
+struct TextureUnit {
+  uint32_t tx_frame = 0;
+  uint16_t tx_camera = 0;
+  std::vector<uint8_t> tx_access_unit;
+};
+
+template <class Io>
+void transfer(Io& io, TextureUnit& tx) {
+  io.u32("tx_frame", tx.tx_frame, 0, kMaxFrames - 1);
+  io.u16("tx_camera", tx.tx_camera, 0, kMaxCameras - 1);
+  io.rest("tx_access_unit", tx.tx_access_unit);
 }
 
 }  // namespace tdvo

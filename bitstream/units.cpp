@@ -2,6 +2,8 @@
 
 #include <zlib.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <cstring>
 
 #include "common/error.h"
@@ -41,6 +43,8 @@ const char* unitTypeName(uint8_t type) {
       return "I_MESH";
     case UnitType::kPMesh:
       return "P_MESH";
+    case UnitType::kTexture:
+      return "TEXTURE";
   }
   return "unknown type";
 }
@@ -75,28 +79,88 @@ UnitReader::UnitReader(const uint8_t* data, size_t size, std::string name)
     throw Error(name_ + ": not a 3DVO stream (the first four bytes are not \"3DVO\")");
 }
 
-bool UnitReader::next(UnitView& unit) {
-  if (pos_ == size_) return false;
+namespace {
+
+// Checks the unit at `at` (stream offset `offset`, `available` bytes from there to the end of
+// the stream, of which at least the unit itself, or at least its header when the header is
+// invalid, are at `at`) and describes it in `unit`.
+void parseUnit(const uint8_t* at, uint64_t available, uint64_t offset, size_t index,
+               const std::string& name, UnitView& unit) {
   unit = UnitView();
-  unit.index = index_++;
-  unit.offset = pos_;
+  unit.index = index;
+  unit.offset = offset;
   const std::string where =
-      name_ + ": unit " + std::to_string(unit.index) + " at byte " + std::to_string(pos_);
-  if (size_ - pos_ < kUnitHeaderSize)
+      name + ": unit " + std::to_string(unit.index) + " at byte " + std::to_string(offset);
+  if (available < kUnitHeaderSize)
     throw Error(where + ": stream ends inside the unit header (truncated stream)");
-  unit.type = data_[pos_];
-  unit.size = readU32(data_ + pos_ + 1);
+  unit.type = at[0];
+  unit.size = readU32(at + 1);
   const std::string typed = where + " (" + unitTypeName(unit.type) + ")";
   if (unit.size > kMaxUnitSize)
     throw Error(typed + ": unit_size " + std::to_string(unit.size) + " exceeds the 1 GiB limit");
-  if (size_ - pos_ - kUnitHeaderSize < uint64_t{unit.size} + 4)
+  if (available - kUnitHeaderSize < uint64_t{unit.size} + 4)
     throw Error(typed + ": unit_size " + std::to_string(unit.size) +
                 " runs past the end of the stream (truncated or corrupted stream)");
-  unit.payload = data_ + pos_ + kUnitHeaderSize;
-  unit.payloadOffset = pos_ + kUnitHeaderSize;
+  unit.payload = at + kUnitHeaderSize;
+  unit.payloadOffset = offset + kUnitHeaderSize;
   const uint32_t stored = readU32(unit.payload + unit.size);
-  if (stored != unitCrc(data_ + pos_, unit.payload, unit.size))
+  if (stored != unitCrc(at, unit.payload, unit.size))
     throw Error(typed + ": CRC mismatch (corrupted stream)");
+}
+
+}  // namespace
+
+bool UnitReader::next(UnitView& unit) {
+  if (pos_ == size_) return false;
+  parseUnit(data_ + pos_, size_ - pos_, pos_, index_++, name_, unit);
+  pos_ += kUnitOverhead + unit.size;
+  return true;
+}
+
+UnitFileReader::UnitFileReader(const std::string& path, std::string name) : name_(std::move(name)) {
+  file_ = std::fopen(path.c_str(), "rb");
+  if (!file_) throw Error(name_ + ": cannot open: " + std::strerror(errno));
+  long end = -1;
+  if (std::fseek(file_, 0, SEEK_END) == 0) end = std::ftell(file_);
+  if (end < 0 || std::fseek(file_, 0, SEEK_SET) != 0) {
+    const std::string why = std::strerror(errno);
+    std::fclose(file_);
+    throw Error(name_ + ": cannot read: " + why);
+  }
+  size_ = static_cast<uint64_t>(end);
+  uint8_t magic[4] = {0, 0, 0, 0};
+  if (size_ >= 4) read(magic, 4);
+  if (size_ < 4 || std::memcmp(magic, kStreamMagic, 4) != 0) {
+    std::fclose(file_);
+    throw Error(name_ + ": not a 3DVO stream (the first four bytes are not \"3DVO\")");
+  }
+}
+
+UnitFileReader::~UnitFileReader() {
+  std::fclose(file_);
+}
+
+void UnitFileReader::read(uint8_t* to, size_t bytes) {
+  if (bytes > 0 && std::fread(to, 1, bytes, file_) != bytes)
+    throw Error(name_ + ": read error at byte " + std::to_string(std::ftell(file_)) + ": " +
+                (std::ferror(file_) ? std::strerror(errno) : "file shorter than it was"));
+}
+
+bool UnitFileReader::next(UnitView& unit) {
+  if (pos_ == size_) return false;
+  const uint64_t available = size_ - pos_;
+  // The header first: the payload is read only once its size has been found plausible.
+  const size_t header = static_cast<size_t>(std::min<uint64_t>(available, kUnitHeaderSize));
+  unit_.resize(header);
+  read(unit_.data(), header);
+  if (header == kUnitHeaderSize) {
+    const uint32_t size = readU32(unit_.data() + 1);
+    if (size <= kMaxUnitSize && available - kUnitHeaderSize >= uint64_t{size} + 4) {
+      unit_.resize(kUnitOverhead + size);
+      read(unit_.data() + kUnitHeaderSize, size + 4);
+    }
+  }
+  parseUnit(unit_.data(), available, pos_, index_++, name_, unit);
   pos_ += kUnitOverhead + unit.size;
   return true;
 }

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,7 @@ enum class UnitType : uint8_t {
   kGomHeader = 2,
   kIMesh = 3,
   kPMesh = 4,
+  kTexture = 5,
 };
 
 const char* unitTypeName(uint8_t type);
@@ -54,12 +56,21 @@ struct UnitView {
   std::string describe() const;
 };
 
+// Where a decoder gets its units from: a stream in memory (UnitReader) or a file read unit by
+// unit (UnitFileReader). Both check and report alike.
+class UnitSource {
+ public:
+  virtual ~UnitSource() = default;
+  // Returns false at the end of the stream; throws Error on a truncated or corrupted unit. The
+  // unit's payload stays valid until the next call.
+  virtual bool next(UnitView& unit) = 0;
+};
+
 // Walks the units of a stream held in memory. `name` (the file name) prefixes error messages.
-class UnitReader {
+class UnitReader : public UnitSource {
  public:
   UnitReader(const uint8_t* data, size_t size, std::string name);
-  // Returns false at the end of the stream; throws Error on a truncated or corrupted unit.
-  bool next(UnitView& unit);
+  bool next(UnitView& unit) override;
   const std::string& name() const { return name_; }
 
  private:
@@ -68,6 +79,29 @@ class UnitReader {
   size_t pos_;
   size_t index_ = 0;
   std::string name_;
+};
+
+// Reads the units of a stream file one at a time into a buffer it reuses, so that decoding
+// needs memory for one unit, not for the whole stream: a decoder's memory does not grow with
+// the length of the sequence. Same checks and messages as UnitReader; `name` prefixes them.
+class UnitFileReader : public UnitSource {
+ public:
+  // Throws Error when the file cannot be opened or does not start with "3DVO".
+  UnitFileReader(const std::string& path, std::string name);
+  ~UnitFileReader() override;
+  UnitFileReader(const UnitFileReader&) = delete;
+  UnitFileReader& operator=(const UnitFileReader&) = delete;
+  bool next(UnitView& unit) override;
+  uint64_t fileSize() const { return size_; }
+
+ private:
+  void read(uint8_t* to, size_t bytes);
+  std::FILE* file_ = nullptr;
+  uint64_t size_ = 0;
+  uint64_t pos_ = 4;
+  size_t index_ = 0;
+  std::string name_;
+  std::vector<uint8_t> unit_;  // the current unit: header, payload, CRC
 };
 
 }  // namespace tdvo

@@ -1,5 +1,6 @@
 // The shared frame of every 3DVO command-line app: errors become one line on stderr,
-// "<app>: error: <message>", and exit code 1; internal errors (bugs) exit with code 2.
+// "<app>: error: <message>", and exit code 1; internal errors (bugs) exit with code 2; SIGINT,
+// SIGTERM and SIGHUP remove the run's unfinished output files first (interrupt.h).
 #pragma once
 
 #include <cstdio>
@@ -8,11 +9,14 @@
 #include <stdexcept>
 
 #include "common/error.h"
+#include "common/interrupt.h"
 
 namespace tdvo {
 
 template <class Body>
 int runApp(const char* app, Body body) {
+  // Before any thread exists: an interrupted run removes its unfinished output files.
+  installInterruptCleanup();
   try {
     return body();
   } catch (const Error& e) {

@@ -42,6 +42,32 @@ inline void guardLoop(const CabacDecoder& dec, uint32_t i, const char* what) {
 
 }  // namespace
 
+// ---- Error paths of the inline binarisation decoders (cabac.h)
+
+namespace cabac {
+
+void throwNoContexts(const char* what) {
+  throw std::invalid_argument(std::string(what) + ": no ctxs");
+}
+
+void throwAboveMax(const char* what) {
+  throw std::invalid_argument(std::string(what) + ": value > cMax");
+}
+
+void throwBadK(const char* what) {
+  throw std::invalid_argument(std::string(what) + ": k out of [0, 31]");
+}
+
+void throwLoopOverrun(const char* what) {
+  throw Error(std::string("CABAC: ") + what + " runs past the end of the payload");
+}
+
+void throwCorrupt(const char* message) {
+  throw Error(message);
+}
+
+}  // namespace cabac
+
 // ---- ContextModel
 
 double ContextModel::lpsProbability(int state) {
@@ -291,27 +317,6 @@ uint32_t decodeUnary(CabacDecoder& dec, ContextModel* ctxs, int numCtx, uint32_t
   return n;
 }
 
-void encodeTruncatedUnary(CabacEncoder& enc, ContextModel* ctxs, int numCtx, uint32_t value,
-                          uint32_t cMax) {
-  if (value > cMax) throw std::invalid_argument("encodeTruncatedUnary: value > cMax");
-  if (cMax == 0) return;
-  requireContexts(ctxs, numCtx, "encodeTruncatedUnary");
-  for (uint32_t i = 0; i < value; ++i)
-    enc.encodeBin(binContext(ctxs, numCtx, i), 1);
-  if (value < cMax) enc.encodeBin(binContext(ctxs, numCtx, value), 0);
-}
-
-uint32_t decodeTruncatedUnary(CabacDecoder& dec, ContextModel* ctxs, int numCtx, uint32_t cMax) {
-  if (cMax == 0) return 0;
-  requireContexts(ctxs, numCtx, "decodeTruncatedUnary");
-  uint32_t n = 0;
-  while (n < cMax && dec.decodeBin(binContext(ctxs, numCtx, n))) {
-    ++n;
-    guardLoop(dec, n, "truncated unary value");
-  }
-  return n;
-}
-
 void encodeExpGolombBypass(CabacEncoder& enc, uint32_t value, int k) {
   requireK(k, "encodeExpGolombBypass");
   uint64_t rest = value;
@@ -336,38 +341,6 @@ uint32_t decodeExpGolombBypass(CabacDecoder& dec, int k) {
   value += dec.decodeBypassBits(k);
   if (value > UINT32_MAX) throw Error("CABAC: Exp-Golomb value exceeds 32 bits (corrupt stream)");
   return uint32_t(value);
-}
-
-void encodeUEGk(CabacEncoder& enc, ContextModel* ctxs, int numCtx, uint32_t value, int k,
-                uint32_t uCoff) {
-  requireK(k, "encodeUEGk");
-  encodeTruncatedUnary(enc, ctxs, numCtx, value < uCoff ? value : uCoff, uCoff);
-  if (value >= uCoff) encodeExpGolombBypass(enc, value - uCoff, k);
-}
-
-uint32_t decodeUEGk(CabacDecoder& dec, ContextModel* ctxs, int numCtx, int k, uint32_t uCoff) {
-  requireK(k, "decodeUEGk");
-  const uint32_t prefix = decodeTruncatedUnary(dec, ctxs, numCtx, uCoff);
-  if (prefix < uCoff) return prefix;
-  const uint64_t value = uint64_t(uCoff) + decodeExpGolombBypass(dec, k);
-  if (value > UINT32_MAX) throw Error("CABAC: UEGk value exceeds 32 bits (corrupt stream)");
-  return uint32_t(value);
-}
-
-void encodeSignedUEGk(CabacEncoder& enc, ContextModel* ctxs, int numCtx, int32_t value, int k,
-                      uint32_t uCoff) {
-  const uint32_t magnitude = value < 0 ? 0u - uint32_t(value) : uint32_t(value);
-  encodeUEGk(enc, ctxs, numCtx, magnitude, k, uCoff);
-  if (magnitude != 0) enc.encodeBypass(value < 0 ? 1 : 0);
-}
-
-int32_t decodeSignedUEGk(CabacDecoder& dec, ContextModel* ctxs, int numCtx, int k, uint32_t uCoff) {
-  const uint32_t magnitude = decodeUEGk(dec, ctxs, numCtx, k, uCoff);
-  if (magnitude == 0) return 0;
-  const bool negative = dec.decodeBypass() != 0;
-  const uint32_t limit = negative ? 0x80000000u : 0x7FFFFFFFu;
-  if (magnitude > limit) throw Error("CABAC: signed UEGk value exceeds 32 bits (corrupt stream)");
-  return negative ? int32_t(-int64_t(magnitude)) : int32_t(magnitude);
 }
 
 }  // namespace tdvo

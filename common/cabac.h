@@ -165,9 +165,10 @@ uint32_t decodeUnary(CabacDecoder& dec, ContextModel* ctxs, int numCtx, uint32_t
 
 // Truncated unary with maximum cMax: as unary, but the zero is omitted when value == cMax.
 // Requires value <= cMax.
-void encodeTruncatedUnary(CabacEncoder& enc, ContextModel* ctxs, int numCtx, uint32_t value,
-                          uint32_t cMax);
-uint32_t decodeTruncatedUnary(CabacDecoder& dec, ContextModel* ctxs, int numCtx, uint32_t cMax);
+inline void encodeTruncatedUnary(CabacEncoder& enc, ContextModel* ctxs, int numCtx, uint32_t value,
+                                 uint32_t cMax);
+inline uint32_t decodeTruncatedUnary(CabacDecoder& dec, ContextModel* ctxs, int numCtx,
+                                     uint32_t cMax);
 
 // k-th order Exp-Golomb in bypass bins, in the form of the UEGk suffix (clause 9.3.2.3): while
 // value >= 2^k, a 1 and value -= 2^k, k++; then a 0 and value in k bits. 0 <= k <= 31.
@@ -179,20 +180,30 @@ uint32_t decodeExpGolombBypass(CabacDecoder& dec, int k);
 // min(value, uCoff) with contexts and, when value >= uCoff, an Exp-Golomb suffix of
 // value - uCoff in bypass bins. The signed variant codes |value| and then, when value != 0, a
 // bypass sign bin (1 = negative).
-void encodeUEGk(CabacEncoder& enc, ContextModel* ctxs, int numCtx, uint32_t value, int k,
-                uint32_t uCoff);
-uint32_t decodeUEGk(CabacDecoder& dec, ContextModel* ctxs, int numCtx, int k, uint32_t uCoff);
-void encodeSignedUEGk(CabacEncoder& enc, ContextModel* ctxs, int numCtx, int32_t value, int k,
-                      uint32_t uCoff);
-int32_t decodeSignedUEGk(CabacDecoder& dec, ContextModel* ctxs, int numCtx, int k, uint32_t uCoff);
+inline void encodeUEGk(CabacEncoder& enc, ContextModel* ctxs, int numCtx, uint32_t value, int k,
+                       uint32_t uCoff);
+inline uint32_t decodeUEGk(CabacDecoder& dec, ContextModel* ctxs, int numCtx, int k,
+                           uint32_t uCoff);
+inline void encodeSignedUEGk(CabacEncoder& enc, ContextModel* ctxs, int numCtx, int32_t value,
+                             int k, uint32_t uCoff);
+inline int32_t decodeSignedUEGk(CabacDecoder& dec, ContextModel* ctxs, int numCtx, int k,
+                                uint32_t uCoff);
 
-// ---- Inline hot paths. Everything rare (byte output, refill, termination) is in cabac.cpp.
+// ---- Inline hot paths. Everything rare (byte output, refill, termination, errors) is in
+// cabac.cpp. The UEGk binarisations are inline because P meshes code three of them per
+// vertex: a call per bin costs more than the bin.
 
 namespace cabac {
 // Left shift that brings a range in [2, 511] back to [256, 511] (renormalisation).
 inline int renormShift(uint32_t range) {
   return __builtin_clz(range) - 23;
 }
+// Cold error paths of the inline decoders (they throw what the checks in cabac.cpp throw).
+[[noreturn]] void throwNoContexts(const char* what);
+[[noreturn]] void throwAboveMax(const char* what);
+[[noreturn]] void throwBadK(const char* what);
+[[noreturn]] void throwLoopOverrun(const char* what);
+[[noreturn]] void throwCorrupt(const char* message);
 }  // namespace cabac
 
 inline void CabacEncoder::encodeBin(ContextModel& ctx, unsigned bin) {
@@ -224,27 +235,36 @@ inline void CabacEncoder::encodeBypass(unsigned bin) {
 }
 
 inline unsigned CabacDecoder::decodeBin(ContextModel& ctx) {
+  // The engine registers are updated in locals and stored after the context: a store to the
+  // context's uint8_t fields may alias anything, and storing it last would force the compiler
+  // to reload range_, value_ and bits_ from memory at the next bin.
   const unsigned s = ctx.state & 63u;
   const uint32_t lps = cabac::kRangeTabLPS[s][(range_ >> 6) & 3];
   const uint32_t mpsRange = range_ - lps;
-  const uint64_t scaled = uint64_t(mpsRange) << bits_;
+  uint64_t value = value_;
+  int bits = bits_;
+  uint32_t range;
+  const uint64_t scaled = uint64_t(mpsRange) << bits;
   unsigned bin = ctx.mps;
-  if (value_ < scaled) {
+  if (value < scaled) {
     ctx.state = cabac::kTransIdxMPS[s];
     // An MPS leaves at least 128 of the range (Table 9-44), so at most one bit is renormalised.
     const unsigned shift = mpsRange < 256;
-    range_ = mpsRange << shift;
-    bits_ -= int(shift);
+    range = mpsRange << shift;
+    bits -= int(shift);
   } else {
-    value_ -= scaled;
+    value -= scaled;
     bin ^= 1u;
     ctx.mps ^= unsigned(s == 0);
     ctx.state = cabac::kTransIdxLPS[s];
     const int shift = cabac::renormShift(lps);
-    range_ = lps << shift;
-    bits_ -= shift;
+    range = lps << shift;
+    bits -= shift;
   }
-  if (bits_ < 8) refill();
+  range_ = range;
+  value_ = value;
+  bits_ = bits;
+  if (bits < 8) refill();
   return bin;
 }
 
@@ -255,6 +275,66 @@ inline unsigned CabacDecoder::decodeBypass() {
   value_ -= scaled & (0 - uint64_t(bin));
   if (bits_ < 8) refill();
   return bin;
+}
+
+inline void encodeTruncatedUnary(CabacEncoder& enc, ContextModel* ctxs, int numCtx, uint32_t value,
+                                 uint32_t cMax) {
+  if (value > cMax) cabac::throwAboveMax("encodeTruncatedUnary");
+  if (cMax == 0) return;
+  if (ctxs == nullptr || numCtx < 1) cabac::throwNoContexts("encodeTruncatedUnary");
+  const uint32_t lastCtx = uint32_t(numCtx - 1);
+  for (uint32_t i = 0; i < value; ++i)
+    enc.encodeBin(ctxs[i < lastCtx ? i : lastCtx], 1);
+  if (value < cMax) enc.encodeBin(ctxs[value < lastCtx ? value : lastCtx], 0);
+}
+
+inline void encodeUEGk(CabacEncoder& enc, ContextModel* ctxs, int numCtx, uint32_t value, int k,
+                       uint32_t uCoff) {
+  if (k < 0 || k > 31) cabac::throwBadK("encodeUEGk");
+  encodeTruncatedUnary(enc, ctxs, numCtx, value < uCoff ? value : uCoff, uCoff);
+  if (value >= uCoff) encodeExpGolombBypass(enc, value - uCoff, k);
+}
+
+inline void encodeSignedUEGk(CabacEncoder& enc, ContextModel* ctxs, int numCtx, int32_t value,
+                             int k, uint32_t uCoff) {
+  const uint32_t magnitude = value < 0 ? 0u - uint32_t(value) : uint32_t(value);
+  encodeUEGk(enc, ctxs, numCtx, magnitude, k, uCoff);
+  if (magnitude != 0) enc.encodeBypass(value < 0 ? 1 : 0);
+}
+
+inline uint32_t decodeTruncatedUnary(CabacDecoder& dec, ContextModel* ctxs, int numCtx,
+                                     uint32_t cMax) {
+  if (cMax == 0) return 0;
+  if (ctxs == nullptr || numCtx < 1) cabac::throwNoContexts("decodeTruncatedUnary");
+  const uint32_t lastCtx = uint32_t(numCtx - 1);
+  uint32_t n = 0;
+  while (n < cMax && dec.decodeBin(ctxs[n < lastCtx ? n : lastCtx])) {
+    ++n;
+    // Stop a long run of ones read past the end of the payload (checked every 64 bins).
+    if ((n & 63) == 0 && dec.overrun()) cabac::throwLoopOverrun("truncated unary value");
+  }
+  return n;
+}
+
+inline uint32_t decodeUEGk(CabacDecoder& dec, ContextModel* ctxs, int numCtx, int k,
+                           uint32_t uCoff) {
+  if (k < 0 || k > 31) cabac::throwBadK("decodeUEGk");
+  const uint32_t prefix = decodeTruncatedUnary(dec, ctxs, numCtx, uCoff);
+  if (prefix < uCoff) return prefix;
+  const uint64_t value = uint64_t(uCoff) + decodeExpGolombBypass(dec, k);
+  if (value > UINT32_MAX) cabac::throwCorrupt("CABAC: UEGk value exceeds 32 bits (corrupt stream)");
+  return uint32_t(value);
+}
+
+inline int32_t decodeSignedUEGk(CabacDecoder& dec, ContextModel* ctxs, int numCtx, int k,
+                                uint32_t uCoff) {
+  const uint32_t magnitude = decodeUEGk(dec, ctxs, numCtx, k, uCoff);
+  if (magnitude == 0) return 0;
+  const bool negative = dec.decodeBypass() != 0;
+  const uint32_t limit = negative ? 0x80000000u : 0x7FFFFFFFu;
+  if (magnitude > limit)
+    cabac::throwCorrupt("CABAC: signed UEGk value exceeds 32 bits (corrupt stream)");
+  return negative ? int32_t(-int64_t(magnitude)) : int32_t(magnitude);
 }
 
 }  // namespace tdvo

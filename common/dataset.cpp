@@ -176,7 +176,7 @@ Dataset parseDataset(const std::string& text, const std::string& name, const std
   Json root;
   try {
     root = Json::parse(text);
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {  // parse_error, and out_of_range for numbers like 1e999
     throw Error(name + ": invalid JSON: " + e.what());
   }
   Dataset d;

@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "common/error.h"
+#include "common/interrupt.h"
 
 namespace tdvo {
 
@@ -63,48 +64,79 @@ std::string readFileMaybeGz(const std::string& path) {
 namespace {
 
 // Writes `path` completely or not at all (removed on failure); errors name `shown`, the file
-// name the user knows.
-void writeWhole(const std::string& path, const std::string& shown, const void* data,
-                size_t size) {
-  FilePtr f(std::fopen(path.c_str(), "wb"));
-  if (!f) throw Error(shown + ": cannot create: " + systemError());
+// name the user knows. The file is in the interrupt registry (interrupt.h) from before it is
+// created; the returned handle is dropped by the caller once the file is renamed into place.
+uint64_t writeWhole(const std::string& path, const std::string& shown, const void* data,
+                    size_t size) {
+  FilePtr f;
+  uint64_t handle;
+  {
+    const auto lock = InterruptRegistry::lock();
+    handle = InterruptRegistry::add(path);
+    f.reset(std::fopen(path.c_str(), "wb"));
+    if (!f) {
+      const std::string why = systemError();
+      InterruptRegistry::drop(handle);
+      throw Error(shown + ": cannot create: " + why);
+    }
+  }
   bool ok = std::fwrite(data, 1, size, f.get()) == size;
   ok = (std::fflush(f.get()) == 0) && ok;
   if (!ok) {
     const std::string why = systemError();
     f.reset();
+    const auto lock = InterruptRegistry::lock();
     std::remove(path.c_str());
+    InterruptRegistry::drop(handle);
     throw Error(shown + ": write error: " + why);
   }
+  return handle;
 }
 
 }  // namespace
 
 void writeFileAtomic(const std::string& path, const void* data, size_t size) {
   const std::string temp = path + ".tmp" + std::to_string(::getpid());
-  writeWhole(temp, path, data, size);
+  const uint64_t handle = writeWhole(temp, path, data, size);
+  const auto lock = InterruptRegistry::lock();
   if (std::rename(temp.c_str(), path.c_str()) != 0) {
     const std::string why = systemError();
     std::remove(temp.c_str());
+    InterruptRegistry::drop(handle);
     throw Error(path + ": cannot rename temporary file into place: " + why);
   }
+  InterruptRegistry::drop(handle);
 }
 
 StagedFiles::~StagedFiles() {
   if (committed_) return;
-  for (const std::string& path : paths_)
-    std::remove((path + ".partial").c_str());
+  // A failed (or partly renamed) run: its files go, under whichever name they stand.
+  const auto lock = InterruptRegistry::lock();
+  for (const Entry& e : entries_) {
+    std::remove(e.renamed ? e.path.c_str() : (e.path + ".partial").c_str());
+    InterruptRegistry::drop(e.handle);
+  }
 }
 
 void StagedFiles::write(const std::string& path, const void* data, size_t size) {
-  writeWhole(path + ".partial", path, data, size);
-  paths_.push_back(path);
+  entries_.reserve(entries_.size() + 1);  // so that the push_back cannot lose a written file
+  entries_.push_back({path, writeWhole(path + ".partial", path, data, size), false});
 }
 
 void StagedFiles::commit() {
-  for (const std::string& path : paths_)
-    if (std::rename((path + ".partial").c_str(), path.c_str()) != 0)
-      throw Error(path + ": cannot rename staged output into place: " + systemError());
+  for (Entry& e : entries_) {
+    const auto lock = InterruptRegistry::lock();
+    if (std::rename((e.path + ".partial").c_str(), e.path.c_str()) != 0)
+      throw Error(e.path + ": cannot rename staged output into place: " + systemError());
+    // Until every file is in place, an interruption removes the renamed ones too: a run's
+    // output is there completely or not at all.
+    InterruptRegistry::drop(e.handle);
+    e.handle = InterruptRegistry::add(e.path);
+    e.renamed = true;
+  }
+  const auto lock = InterruptRegistry::lock();
+  for (const Entry& e : entries_)
+    InterruptRegistry::drop(e.handle);
   committed_ = true;
 }
 

@@ -15,14 +15,17 @@ std::string readFileMaybeGz(const std::string& path);
 
 // Writes `size` bytes to `path` atomically: to a temporary name in the same folder first, then
 // renamed over `path`, so that no half-written file ever stands under the final name.
+// The temporary file is removed if the run is interrupted (interrupt.h).
 void writeFileAtomic(const std::string& path, const void* data, size_t size);
 inline void writeFileAtomic(const std::string& path, const std::string& text) {
   writeFileAtomic(path, text.data(), text.size());
 }
 
 // Output files of one run, staged under temporary names ("<path>.partial") and renamed to their
-// final names together by commit(). If the run fails before commit(), the destructor removes
-// the staged files, so a failed run leaves no output under a final name.
+// final names together by commit(). If the run fails before commit() has renamed them all, the
+// destructor removes them (staged or already renamed), so a failed run leaves no output under a
+// final name; an interrupted one neither (interrupt.h: the files are in the interrupt registry
+// from before they are created until commit() is done).
 class StagedFiles {
  public:
   StagedFiles() = default;
@@ -36,7 +39,12 @@ class StagedFiles {
   void commit();
 
  private:
-  std::vector<std::string> paths_;
+  struct Entry {
+    std::string path;  // final name
+    uint64_t handle;   // in the interrupt registry
+    bool renamed;      // commit() has moved it to its final name
+  };
+  std::vector<Entry> entries_;
   bool committed_ = false;
 };
 

@@ -104,6 +104,14 @@ Image decodePng(const std::vector<uint8_t>& bytes, const std::string& name) {
     throw Error(name + ": cannot read PNG: " + errorState.message);
   check(header.channels >= 1 && header.channels <= 4,
         name + ": unsupported PNG channel count " + std::to_string(header.channels));
+  // Deflate expands at most 1032:1, no PNG pixel is stored in less than 1 bit and a decoded one
+  // takes at most 4 bytes, so n bytes of file hold at most 32 * 1032 * n bytes of samples.
+  // Checked before allocating: a 69-byte file declaring 32767 x 32767 RGBA must not ask for 4 GB.
+  const uint64_t samples = uint64_t{header.width} * header.height * uint64_t(header.channels);
+  check(samples <= uint64_t{32 * 1032} * bytes.size(),
+        name + ": PNG declares " + std::to_string(header.width) + "x" +
+            std::to_string(header.height) + " pixels, more than its " +
+            std::to_string(bytes.size()) + " bytes can hold");
   Image image(static_cast<int>(header.width), static_cast<int>(header.height), header.channels);
   std::vector<png_bytep> rows(header.height);
   for (png_uint_32 y = 0; y < header.height; ++y)

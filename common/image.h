@@ -36,7 +36,8 @@ struct Image {
 // Reads a PNG file of any colour type and bit depth into 8-bit samples: palettes are expanded
 // to RGB(A), bit depths below 8 are scaled up, 16-bit samples are rounded to 8 bits, and a tRNS
 // chunk becomes an alpha channel. No gamma or colour-space conversion is applied. Throws Error
-// naming the file for anything unreadable.
+// naming the file for anything unreadable, and, before allocating, for a declared size (at most
+// 32767 x 32767) larger than the file's bytes can hold (33,024 decoded bytes per file byte).
 Image readPng(const std::string& path);
 // The same for PNG bytes in memory; `name` is used in error messages only.
 Image decodePng(const std::vector<uint8_t>& bytes, const std::string& name);

@@ -13,5 +13,8 @@ namespace tdvo {
 //   ka + roundDiv((kb - ka) * (f - a), b - a)   per coordinate (roundDiv: pmesh_prediction.h).
 std::vector<Vec3i> interpolateFrame(const std::vector<Vec3i>& ka, const std::vector<Vec3i>& kb,
                                     int a, int b, int f);
+// The same into `out` (resized; must be neither ka nor kb), for callers that reuse a buffer.
+void interpolateFrame(const std::vector<Vec3i>& ka, const std::vector<Vec3i>& kb, int a, int b,
+                      int f, std::vector<Vec3i>& out);
 
 }  // namespace tdvo

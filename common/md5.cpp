@@ -2,8 +2,6 @@
 
 #include <openssl/evp.h>
 
-#include <vector>
-
 #include "common/error.h"
 
 namespace tdvo {
@@ -45,12 +43,18 @@ std::string toHex(const Md5Digest& digest) {
 }
 
 Md5Digest geometryDigest(const IntMesh& mesh) {
-  // Serialise once and hash once: one EVP call per value would dominate decoding time.
-  std::vector<uint8_t> bytes;
-  bytes.reserve(8 + 12 * (mesh.positions.size() + mesh.triangles.size()));
-  auto put = [&bytes](uint32_t v) {
+  // Serialised through a fixed buffer hashed whenever it fills: one EVP call per value would
+  // dominate decoding time, and a buffer of the whole frame would be an allocation per frame.
+  uint8_t buffer[1 << 14];
+  size_t used = 0;
+  Md5 md5;
+  auto put = [&](uint32_t v) {
+    if (used + 4 > sizeof buffer) {
+      md5.update(buffer, used);
+      used = 0;
+    }
     for (int shift = 0; shift < 32; shift += 8)
-      bytes.push_back(static_cast<uint8_t>(v >> shift));
+      buffer[used++] = static_cast<uint8_t>(v >> shift);
   };
   put(static_cast<uint32_t>(mesh.positions.size()));
   put(static_cast<uint32_t>(mesh.triangles.size()));
@@ -60,8 +64,7 @@ Md5Digest geometryDigest(const IntMesh& mesh) {
   for (const Triangle& t : mesh.triangles)
     for (uint32_t v : t)
       put(v);
-  Md5 md5;
-  md5.update(bytes.data(), bytes.size());
+  md5.update(buffer, used);
   return md5.finish();
 }
 

@@ -422,4 +422,83 @@ double BoundingBox::diagonal() const {
   return std::sqrt(squaredLength(sub(hi, lo)));
 }
 
+// ---- Texture metrics ----
+
+std::array<double, 3> rgbToYcbcr601(uint8_t r, uint8_t g, uint8_t b) {
+  // E'_Y = K_R R + (1 − K_R − K_B) G + K_B B on 0..1; Cb = (B − E'_Y) / (2 (1 − K_B)),
+  // Cr = (R − E'_Y) / (2 (1 − K_R)); 8-bit limited range: 16 + 219 E'_Y, 128 + 224 C.
+  constexpr double kR = 0.299, kB = 0.114, kG = 1.0 - kR - kB;
+  const double red = r / 255.0, green = g / 255.0, blue = b / 255.0;
+  const double luma = kR * red + kG * green + kB * blue;
+  return {16.0 + 219.0 * luma, 128.0 + 224.0 * (blue - luma) / (2.0 * (1.0 - kB)),
+          128.0 + 224.0 * (red - luma) / (2.0 * (1.0 - kR))};
+}
+
+void PictureError::add(const PictureError& other) {
+  pixels += other.pixels;
+  for (int c = 0; c < 3; ++c)
+    sumSquared[c] += other.sumSquared[c];
+}
+
+std::optional<double> PictureError::mse(int c) const {
+  if (pixels == 0) return std::nullopt;
+  return sumSquared[c] / static_cast<double>(pixels);
+}
+
+std::optional<double> PictureError::psnr(int c) const {
+  const std::optional<double> m = mse(c);
+  if (!m) return std::nullopt;
+  if (*m <= 0) return std::numeric_limits<double>::infinity();
+  return 10.0 * std::log10(255.0 * 255.0 / *m);
+}
+
+std::optional<double> PictureError::yuvPsnr() const {
+  if (pixels == 0) return std::nullopt;
+  return (6.0 * *psnr(0) + *psnr(1) + *psnr(2)) / 8.0;
+}
+
+namespace {
+
+void checkComparable(const Image& reference, const Image& test) {
+  check(reference.width == test.width && reference.height == test.height,
+        "texture metrics: reference is " + std::to_string(reference.width) + "x" +
+            std::to_string(reference.height) + ", test " + std::to_string(test.width) + "x" +
+            std::to_string(test.height));
+  check(reference.channels >= 3 && test.channels >= 3,
+        "texture metrics: RGB or RGBA images expected");
+}
+
+void addPixel(const Image& reference, const Image& test, int x, int y, PictureError& error) {
+  const std::array<double, 3> a =
+      rgbToYcbcr601(reference.at(x, y, 0), reference.at(x, y, 1), reference.at(x, y, 2));
+  const std::array<double, 3> b =
+      rgbToYcbcr601(test.at(x, y, 0), test.at(x, y, 1), test.at(x, y, 2));
+  for (int c = 0; c < 3; ++c)
+    error.sumSquared[c] += (a[c] - b[c]) * (a[c] - b[c]);
+  ++error.pixels;
+}
+
+}  // namespace
+
+PictureError maskedPictureError(const Image& reference, const Image& test, const Image& mask) {
+  checkComparable(reference, test);
+  check(mask.width == reference.width && mask.height == reference.height && mask.channels == 1,
+        "texture metrics: the mask must be one channel of the images' size");
+  PictureError error;
+  for (int y = 0; y < reference.height; ++y)
+    for (int x = 0; x < reference.width; ++x)
+      if (mask.at(x, y) != 0) addPixel(reference, test, x, y, error);
+  return error;
+}
+
+PictureError regionPictureError(const Image& reference, const Image& test, int x0, int y0, int x1,
+                                int y1) {
+  checkComparable(reference, test);
+  PictureError error;
+  for (int y = std::max(y0, 0); y < std::min(y1, reference.height); ++y)
+    for (int x = std::max(x0, 0); x < std::min(x1, reference.width); ++x)
+      addPixel(reference, test, x, y, error);
+  return error;
+}
+
 }  // namespace tdvo

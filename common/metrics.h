@@ -8,13 +8,20 @@
 //    vertex RMSE, the temporal average error D_A and the KG error (Karni & Gotsman 2004).
 // Decoded 3DVO frames are in Draco's vertex order, not the input order: nearestVertexCorrespondence
 // recovers a correspondence from the positions.
+//
+// Texture metrics (the end of this file): squared errors and PSNR between a camera's original
+// RGB frame and the decoded one, in BT.601 Y'CbCr computed per pixel, over the object's shape
+// (object PSNR) or over a rectangle such as the texture box (docs/metrics.md, "Texture metrics").
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
+#include "common/image.h"
 #include "common/mesh.h"
 
 namespace tdvo {
@@ -141,5 +148,37 @@ struct BoundingBox {
   // Length of the diagonal; 0 for an empty box.
   double diagonal() const;
 };
+
+// ---- Texture metrics ----
+
+// The Y'CbCr of one 8-bit RGB pixel, per ITU-R BT.601 (K_R = 0.299, K_B = 0.114) in limited
+// range (Y' 16..235, Cb and Cr 16..240 for RGB in 0..255), unrounded: the same matrix and range
+// as the texture coder's conversion (common/yuv.h), but per pixel, without chroma subsampling
+// and without rounding to integers.
+std::array<double, 3> rgbToYcbcr601(uint8_t r, uint8_t g, uint8_t b);
+
+// Squared errors of Y', Cb and Cr summed over a set of pixels, mergeable across pictures.
+struct PictureError {
+  uint64_t pixels = 0;                    // pixels counted
+  std::array<double, 3> sumSquared = {};  // Y', Cb, Cr: sum of (reference − test)²
+
+  void add(const PictureError& other);
+  // Mean squared error of component c (0 = Y', 1 = Cb, 2 = Cr); absent without pixels.
+  std::optional<double> mse(int c) const;
+  // 10·log10(255² / MSE) dB; +infinity for MSE 0; absent without pixels.
+  std::optional<double> psnr(int c) const;
+  // (6·PSNR_Y + PSNR_Cb + PSNR_Cr) / 8, the weighting of the JCT-VC / JVET common test
+  // conditions; absent without pixels, +infinity when a component's PSNR is.
+  std::optional<double> yuvPsnr() const;
+};
+
+// The errors between a reference and a test image (RGB or RGBA, only R, G, B compared; same size)
+// over the pixels where `mask` (one channel, same size) is non-zero. Throws Error when the sizes
+// differ or an image has fewer than 3 channels.
+PictureError maskedPictureError(const Image& reference, const Image& test, const Image& mask);
+
+// The same over the rectangle [x0, x1) × [y0, y1), clipped to the images.
+PictureError regionPictureError(const Image& reference, const Image& test, int x0, int y0, int x1,
+                                int y1);
 
 }  // namespace tdvo

@@ -1,59 +1,103 @@
 #include "common/pmesh_prediction.h"
 
 #include <algorithm>
-#include <unordered_map>
+#include <string>
+#include <utility>
+
+#include "common/error.h"
 
 namespace tdvo {
 
 namespace {
 
-uint64_t undirectedEdge(uint32_t a, uint32_t b) {
-  return a < b ? (uint64_t(a) << 32 | b) : (uint64_t(b) << 32 | a);
+// Counting sort of (key, value) pairs into CSR form: start[k] .. start[k+1] holds the values of
+// key k in the order they were given. `emit(add)` must call add(key, value) for every pair, and
+// is called twice (count, then fill), so it must emit the same pairs both times.
+template <class Value, class Emit>
+void buildCsr(uint32_t numKeys, std::vector<uint32_t>& start, std::vector<Value>& values,
+              Emit emit) {
+  start.assign(numKeys + 1, 0);
+  emit([&](uint32_t key, const Value&) { ++start[key + 1]; });
+  for (uint32_t k = 0; k < numKeys; ++k)
+    start[k + 1] += start[k];
+  values.resize(start[numKeys]);
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+  emit([&](uint32_t key, const Value& value) { values[fill[key]++] = value; });
 }
 
 }  // namespace
 
+// Everything is built with counting sorts into flat arrays (no hashing, no vector per vertex):
+// this runs once per GOM on the decoder's path.
 GomTopology GomTopology::build(const IntMesh& iMesh) {
   GomTopology t;
   const uint32_t n = static_cast<uint32_t>(iMesh.positions.size());
+  const std::vector<Triangle>& tris = iMesh.triangles;
   t.numVertices = n;
 
-  // 1-rings in CSR form.
-  std::vector<std::vector<uint32_t>> ring(n);
-  for (const Triangle& tri : iMesh.triangles)
-    for (int k = 0; k < 3; ++k) {
-      ring[tri[k]].push_back(tri[(k + 1) % 3]);
-      ring[tri[k]].push_back(tri[(k + 2) % 3]);
-    }
+  // 1-rings: both other corners of every corner, then each ring sorted and deduplicated.
+  std::vector<uint32_t> rawStart, raw;
+  buildCsr<uint32_t>(n, rawStart, raw, [&](auto add) {
+    for (const Triangle& tri : tris)
+      for (int k = 0; k < 3; ++k) {
+        add(tri[k], tri[(k + 1) % 3]);
+        add(tri[k], tri[(k + 2) % 3]);
+      }
+  });
   t.neighbourStart.assign(n + 1, 0);
+  t.neighbours.reserve(raw.size());
   for (uint32_t v = 0; v < n; ++v) {
-    std::sort(ring[v].begin(), ring[v].end());
-    ring[v].erase(std::unique(ring[v].begin(), ring[v].end()), ring[v].end());
-    t.neighbourStart[v + 1] = t.neighbourStart[v] + static_cast<uint32_t>(ring[v].size());
+    const auto first = raw.begin() + rawStart[v], last = raw.begin() + rawStart[v + 1];
+    std::sort(first, last);
+    t.neighbours.insert(t.neighbours.end(), first, std::unique(first, last));
+    t.neighbourStart[v + 1] = static_cast<uint32_t>(t.neighbours.size());
   }
-  t.neighbours.reserve(t.neighbourStart[n]);
-  for (uint32_t v = 0; v < n; ++v)
-    t.neighbours.insert(t.neighbours.end(), ring[v].begin(), ring[v].end());
+  t.neighbours.shrink_to_fit();
 
-  // Wings: for each corner (v, a, b) every other triangle's third vertex on edge a-b.
-  std::unordered_map<uint64_t, std::vector<uint32_t>> opposite;
-  opposite.reserve(iMesh.triangles.size() * 3 / 2 + 1);
-  for (const Triangle& tri : iMesh.triangles)
+  // Undirected edges are numbered by their place in the lower endpoint's ring, so edge (a, b)
+  // is neighbours index of max(a, b) in the ring of min(a, b).
+  auto edgeId = [&t](uint32_t a, uint32_t b) {
+    if (a > b) std::swap(a, b);
+    const auto first = t.neighbours.begin() + t.neighbourStart[a];
+    const auto last = t.neighbours.begin() + t.neighbourStart[a + 1];
+    return static_cast<uint32_t>(std::lower_bound(first, last, b) - t.neighbours.begin());
+  };
+  // The corners opposite each edge, in triangle order: corner k of triangle i faces the edge
+  // between its two other corners.
+  const uint32_t numEdgeSlots = static_cast<uint32_t>(t.neighbours.size());
+  std::vector<uint32_t> cornerEdge(tris.size() * 3);
+  for (size_t i = 0; i < tris.size(); ++i)
     for (int k = 0; k < 3; ++k)
-      opposite[undirectedEdge(tri[(k + 1) % 3], tri[(k + 2) % 3])].push_back(tri[k]);
-  std::vector<std::vector<std::array<uint32_t, 3>>> wingsOf(n);
-  for (const Triangle& tri : iMesh.triangles)
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t v = tri[k], a = tri[(k + 1) % 3], b = tri[(k + 2) % 3];
-      for (uint32_t o : opposite[undirectedEdge(a, b)])
-        if (o != v) wingsOf[v].push_back({a, b, o});
-    }
-  t.wingStart.assign(n + 1, 0);
-  for (uint32_t v = 0; v < n; ++v)
-    t.wingStart[v + 1] = t.wingStart[v] + static_cast<uint32_t>(wingsOf[v].size());
-  t.wings.reserve(t.wingStart[n]);
-  for (uint32_t v = 0; v < n; ++v)
-    t.wings.insert(t.wings.end(), wingsOf[v].begin(), wingsOf[v].end());
+      cornerEdge[3 * i + k] = edgeId(tris[i][(k + 1) % 3], tris[i][(k + 2) % 3]);
+  std::vector<uint32_t> oppositeStart, opposite;
+  buildCsr<uint32_t>(numEdgeSlots, oppositeStart, opposite, [&](auto add) {
+    for (size_t i = 0; i < tris.size(); ++i)
+      for (int k = 0; k < 3; ++k)
+        add(cornerEdge[3 * i + k], tris[i][k]);
+  });
+
+  // k triangles on one edge give k (k - 1) wings: a corrupt I mesh with thousands of triangles
+  // on one edge would ask for gigabytes and quadratic time. Bounded first, in linear time: the
+  // pairs of distinct corners facing the same edge may be at most three per triangle, as in any
+  // mesh whose edges have at most two triangles (Draco's Edgebreaker decodes only such meshes).
+  uint64_t cornerPairs = 0;
+  for (const uint32_t e : cornerEdge)
+    cornerPairs += oppositeStart[e + 1] - oppositeStart[e] - 1;
+  check(cornerPairs <= 3 * uint64_t{tris.size()},
+        "I mesh: " + std::to_string(cornerPairs) + " pairs of triangles on shared edges, more " +
+            "than three per triangle (" + std::to_string(tris.size()) +
+            " triangles; docs/bitstream.md, section 5.4)");
+
+  // Wings: for each corner (v, a, b), in triangle order, every other corner facing edge a-b.
+  buildCsr<std::array<uint32_t, 3>>(n, t.wingStart, t.wings, [&](auto add) {
+    for (size_t i = 0; i < tris.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = tris[i][k], a = tris[i][(k + 1) % 3], b = tris[i][(k + 2) % 3];
+        const uint32_t e = cornerEdge[3 * i + k];
+        for (uint32_t j = oppositeStart[e]; j < oppositeStart[e + 1]; ++j)
+          if (opposite[j] != v) add(v, std::array<uint32_t, 3>{a, b, opposite[j]});
+      }
+  });
 
   // Breadth-first order.
   t.order.reserve(n);
@@ -74,13 +118,28 @@ GomTopology GomTopology::build(const IntMesh& iMesh) {
       }
     }
   }
-  return t;
-}
 
-int64_t roundDiv(int64_t num, int64_t den) {
-  const int64_t a = 2 * num + den, b = 2 * den;
-  // Floor division (C++ truncates toward zero).
-  return a >= 0 ? a / b : -((-a + b - 1) / b);
+  // Rank space.
+  t.rank.resize(n);
+  for (uint32_t r = 0; r < n; ++r)
+    t.rank[t.order[r]] = r;
+  t.rankNeighbourStart.resize(n + 1);
+  t.rankNeighbours.resize(t.neighbours.size());
+  t.rankWingStart.resize(n + 1);
+  t.rankWings.resize(t.wings.size());
+  t.rankNeighbourStart[0] = t.rankWingStart[0] = 0;
+  for (uint32_t r = 0; r < n; ++r) {
+    const uint32_t v = t.order[r];
+    uint32_t at = t.rankNeighbourStart[r];
+    for (uint32_t i = t.neighbourStart[v]; i < t.neighbourStart[v + 1]; ++i)
+      t.rankNeighbours[at++] = t.rank[t.neighbours[i]];
+    t.rankNeighbourStart[r + 1] = at;
+    at = t.rankWingStart[r];
+    for (uint32_t i = t.wingStart[v]; i < t.wingStart[v + 1]; ++i)
+      t.rankWings[at++] = {t.rank[t.wings[i][0]], t.rank[t.wings[i][1]], t.rank[t.wings[i][2]]};
+    t.rankWingStart[r + 1] = at;
+  }
+  return t;
 }
 
 Vec3i predictMotion(const GomTopology& t, uint32_t v, const std::vector<Vec3i>& motion,
@@ -132,13 +191,100 @@ void OctreePartition::split(const std::vector<Vec3i>& positions, uint32_t* begin
   std::copy(scratch.begin(), scratch.end(), begin);
 }
 
-Vec3i applyMotion(const Vec3i& previous, const Vec3i& motion, int gridBits) {
-  const int64_t maxCoordinate = (int64_t{1} << gridBits) - 1;
-  Vec3i out;
-  for (int c = 0; c < 3; ++c)
-    out[c] = static_cast<int32_t>(
-        std::clamp<int64_t>(int64_t{previous[c]} + motion[c], 0, maxCoordinate));
-  return out;
+namespace {
+
+// kSpread8[b]: bit i of the byte b moved to bit 3i.
+struct Spread8 {
+  uint32_t table[256];
+  constexpr Spread8() : table() {
+    for (uint32_t b = 0; b < 256; ++b)
+      for (int i = 0; i < 8; ++i)
+        table[b] |= ((b >> i) & 1u) << (3 * i);
+  }
+};
+constexpr Spread8 kSpread8;
+
+// Bit i of x (x < 2^24) moved to bit 3i.
+inline uint64_t spreadBits3(uint32_t x) {
+  return uint64_t{kSpread8.table[x & 255]} | uint64_t{kSpread8.table[(x >> 8) & 255]} << 24 |
+         uint64_t{kSpread8.table[(x >> 16) & 255]} << 48;
+}
+
+}  // namespace
+
+void MortonOctree::build(const std::vector<Vec3i>& positions, int gridBits) {
+  gridBits_ = gridBits;
+  const size_t n = positions.size();
+  keys_.resize(n);
+  vertices_.resize(n);
+  keyScratch_.resize(n);
+  vertexScratch_.resize(n);
+  // Bit 3i + 2 is bit i of x, 3i + 1 of y, 3i of z: the octant digit of depth d sits at bit
+  // 3 * (gridBits - 1 - d). Only the low gridBits bits of a coordinate choose octants (as in
+  // OctreePartition).
+  const uint32_t mask = (uint32_t{1} << gridBits) - 1;
+  for (size_t v = 0; v < n; ++v) {
+    const Vec3i& p = positions[v];
+    keys_[v] = spreadBits3(uint32_t(p[0]) & mask) << 2 | spreadBits3(uint32_t(p[1]) & mask) << 1 |
+               spreadBits3(uint32_t(p[2]) & mask);
+    vertices_[v] = static_cast<uint32_t>(v);
+  }
+  // LSD radix sort, 12 bits per pass, all histograms counted in one read of the keys. A pass
+  // over a digit that every key shares is skipped.
+  constexpr int kDigitBits = 12;
+  constexpr uint32_t kBuckets = 1u << kDigitBits;
+  const int passes = (3 * gridBits + kDigitBits - 1) / kDigitBits;
+  counts_.assign(size_t(passes) * kBuckets, 0u);
+  for (size_t i = 0; i < n; ++i)
+    for (int pass = 0; pass < passes; ++pass)
+      ++counts_[pass * kBuckets + ((keys_[i] >> (pass * kDigitBits)) & (kBuckets - 1))];
+  for (int pass = 0; pass < passes; ++pass) {
+    const int shift = pass * kDigitBits;
+    uint32_t* count = counts_.data() + size_t(pass) * kBuckets;
+    if (n == 0 || count[(keys_[0] >> shift) & (kBuckets - 1)] == n) continue;
+    uint32_t sum = 0;
+    for (uint32_t b = 0; b < kBuckets; ++b) {
+      const uint32_t c = count[b];
+      count[b] = sum;
+      sum += c;
+    }
+    for (size_t i = 0; i < n; ++i) {
+      const uint32_t slot = count[(keys_[i] >> shift) & (kBuckets - 1)]++;
+      keyScratch_[slot] = keys_[i];
+      vertexScratch_[slot] = vertices_[i];
+    }
+    keys_.swap(keyScratch_);
+    vertices_.swap(vertexScratch_);
+  }
+}
+
+void MortonOctree::split(uint32_t begin, uint32_t end, int depth,
+                         std::array<uint32_t, 9>& bounds) const {
+  const int shift = 3 * (gridBits_ - 1 - depth);
+  const uint64_t* keys = keys_.data();
+  auto octant = [&](uint32_t i) { return uint32_t(keys[i] >> shift) & 7u; };
+  bounds[0] = begin;
+  uint32_t at = begin;
+  for (uint32_t o = 0; o < 8; ++o) {
+    // The end of octant o: the first key whose digit exceeds o. Octants are usually small,
+    // so look a few entries ahead before a binary search.
+    uint32_t probe = at;
+    while (probe < end && probe < at + 4 && octant(probe) <= o)
+      ++probe;
+    if (probe < end && probe == at + 4) {
+      uint32_t lo = probe, hi = end;
+      while (lo < hi) {
+        const uint32_t mid = lo + (hi - lo) / 2;
+        if (octant(mid) <= o)
+          lo = mid + 1;
+        else
+          hi = mid;
+      }
+      probe = lo;
+    }
+    at = probe;
+    bounds[o + 1] = at;
+  }
 }
 
 }  // namespace tdvo

@@ -4,6 +4,7 @@
 // "P-mesh decoding process").
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -26,11 +27,29 @@ struct GomTopology {
   // each from that vertex, neighbours visited in ascending index order.
   std::vector<uint32_t> order;
 
+  // The same rings and wings in breadth-first rank space (rank[v]: the place of v in `order`),
+  // for P-mesh coding, which walks the vertices in that order: vertex order[r]'s neighbours are
+  // rankNeighbours[rankNeighbourStart[r] .. rankNeighbourStart[r+1]) (ranks, not indices), its
+  // wings rankWings[rankWingStart[r] .. rankWingStart[r+1]). A vertex's neighbours are then
+  // close to it in rank, so the per-vertex records they point at share cache lines.
+  std::vector<uint32_t> rank;
+  std::vector<uint32_t> rankNeighbourStart, rankNeighbours;
+  std::vector<uint32_t> rankWingStart;
+  std::vector<std::array<uint32_t, 3>> rankWings;
+
+  // Throws Error when pairs of triangles on shared edges exceed three per triangle (more than
+  // two triangles on some edges; the wings would grow quadratically), before allocating them.
   static GomTopology build(const IntMesh& iMesh);
 };
 
 // round(num / den) for den > 0, halves rounded up: floor((2 * num + den) / (2 * den)).
-int64_t roundDiv(int64_t num, int64_t den);
+inline int64_t roundDiv(int64_t num, int64_t den) {
+  const int64_t a = 2 * num + den, b = 2 * den;
+  // Floor division: C++ truncates toward zero, one too high when a negative a leaves a
+  // remainder. Written without a branch on the sign, which follows the data.
+  const int64_t q = a / b, r = a % b;
+  return q - (r < 0);
+}
 
 // The motion predictor of vertex v from motions already final (available[u] != 0):
 //   k  available 1-ring neighbours, sN = sum of their motions;
@@ -53,7 +72,38 @@ struct OctreePartition {
                     std::vector<uint32_t>& scratch);
 };
 
+// The same octree as one sorted array, for coding where only the cells matter, not the order
+// of vertices inside a cell: the vertices sorted by their Morton key (the octant numbers of
+// depths 0, 1, ... as base-8 digits, depth 0 most significant). Every cell at every depth is
+// then a contiguous range whose octants follow each other in increasing order, so a split is a
+// few binary searches instead of a pass over the cell. Buffers are kept between build() calls.
+class MortonOctree {
+ public:
+  // Sorts vertex indices 0 .. positions.size() - 1 by Morton key (LSD radix sort, stable: equal
+  // positions stay in index order). As in OctreePartition, only the low gridBits bits of each
+  // coordinate count (grid positions lie in [0, 2^gridBits)).
+  void build(const std::vector<Vec3i>& positions, int gridBits);
+  // The sorted vertex indices; a cell is a range [begin, end) of this array.
+  uint32_t* vertices() { return vertices_.data(); }
+  uint32_t size() const { return static_cast<uint32_t>(vertices_.size()); }
+  // The octant ranges of cell [begin, end) at `depth`: octant o is [bounds[o], bounds[o+1]),
+  // absolute indices into vertices(); the cell must be one of this octree's cells at `depth`.
+  void split(uint32_t begin, uint32_t end, int depth, std::array<uint32_t, 9>& bounds) const;
+
+ private:
+  int gridBits_ = 0;
+  std::vector<uint64_t> keys_, keyScratch_;
+  std::vector<uint32_t> vertices_, vertexScratch_, counts_;
+};
+
 // prev + motion, clamped into the grid [0, 2^gridBits - 1] per coordinate.
-Vec3i applyMotion(const Vec3i& previous, const Vec3i& motion, int gridBits);
+inline Vec3i applyMotion(const Vec3i& previous, const Vec3i& motion, int gridBits) {
+  const int64_t maxCoordinate = (int64_t{1} << gridBits) - 1;
+  Vec3i out;
+  for (int c = 0; c < 3; ++c)
+    out[c] = static_cast<int32_t>(
+        std::clamp<int64_t>(int64_t{previous[c]} + motion[c], 0, maxCoordinate));
+  return out;
+}
 
 }  // namespace tdvo

@@ -211,6 +211,16 @@ int64_t snap(double v) {
   return std::llround(std::ldexp(v, kSubpixelBits));
 }
 
+// The largest |pixel coordinate| the integer stage takes: edge functions multiply differences
+// of two fixed-point coordinates, which stay below 2^62 this way. The guard frustum keeps every
+// corner within a few image sizes (<= 2^15 pixels); only a degenerate camera (e.g. decoded from
+// a corrupt stream: cx = 1e300) projects beyond, and such a polygon covers nothing.
+constexpr double kMaxPixelCoordinate = double(int64_t(1) << 21);
+
+bool snappable(const Vec2d& pixel) {
+  return std::fabs(pixel[0]) <= kMaxPixelCoordinate && std::fabs(pixel[1]) <= kMaxPixelCoordinate;
+}
+
 // Clips, projects and rasterises every triangle of the mesh; fragment(triangle, x, y, depth,
 // bary) receives every covered pixel, triangle by triangle in index order.
 template <bool kNeedAttributes, class Fragment>
@@ -248,10 +258,13 @@ void rasteriseMesh(const Mesh& mesh, const Camera& camera, const RasterOptions& 
     if (!inside) n = clipPolygon(poly, n, volume);
     if (n < 3) continue;
     ScreenVertex screen[48];
+    bool representable = true;
     for (int k = 0; k < n; ++k) {
       const Vec2d pixel = camera.projectCameraPoint(poly[k].p);
-      screen[k] = {snap(pixel[0]), snap(pixel[1]), poly[k].p[2], &poly[k].bary};
+      representable = representable && snappable(pixel);
+      if (representable) screen[k] = {snap(pixel[0]), snap(pixel[1]), poly[k].p[2], &poly[k].bary};
     }
+    if (!representable) continue;
     auto perPixel = [&](int x, int y, double depth, const Vec3d& bary) {
       fragment(static_cast<int32_t>(t), x, y, depth, bary);
     };

@@ -12,7 +12,9 @@
 //    triangles around its first corner.
 // 2. Every corner is projected with Camera::projectCameraPoint (distortion included; edges stay
 //    straight between projected corners) and snapped to fixed point with kSubpixelBits fraction
-//    bits: X = llround(x · 2^kSubpixelBits).
+//    bits: X = llround(x · 2^kSubpixelBits). A polygon with a corner beyond ±2^21 pixels, which
+//    only a degenerate camera produces (the guard frustum keeps corners within a few image
+//    sizes), covers nothing: the integer stage below cannot overflow.
 // 3. Coverage is decided in 64-bit integers only: pixel (i, j), whose centre is (i, j) in pixel
 //    coordinates (camera.h), is inside a triangle when all three edge functions are positive, or
 //    zero on a "top" or "left" edge (the top-left rule). Triangles of zero area cover nothing.

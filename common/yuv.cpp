@@ -76,4 +76,9 @@ Md5Digest pictureDigest(const YuvPicture& picture) {
   return md5.finish();
 }
 
+std::string textureHashLine(int frame, int camera, const YuvPicture& picture) {
+  return "MD5 frame=" + std::to_string(frame) + " texture cam=" + std::to_string(camera) + " " +
+         toHex(pictureDigest(picture));
+}
+
 }  // namespace tdvo

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "common/image.h"
@@ -33,5 +34,9 @@ Image yuv420ToRgb(const YuvPicture& picture);
 // MD5 over the Y, U and V planes, in that order, rows top to bottom without padding
 // (docs/bitstream.md, "Frame hashes").
 Md5Digest pictureDigest(const YuvPicture& picture);
+
+// "MD5 frame=<n> texture cam=<c> <32 hex digits>", printed by encoder and decoder per camera
+// and frame.
+std::string textureHashLine(int frame, int camera, const YuvPicture& picture);
 
 }  // namespace tdvo

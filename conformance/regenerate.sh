@@ -17,6 +17,6 @@ for cfg in cfg/*.cfg; do
   rm "streams/$name.enc.log"
   # The decoder must reproduce the encoder's reconstruction exactly.
   "$dec" -i "streams/$name.3dvo" --verify "streams/$name.md5" > /dev/null
-  printf '%-28s %7d bytes  %3d frames\n' "$name" "$(stat -c %s "streams/$name.3dvo")" \
+  printf "%-30s %7d bytes  %3d MD5 lines\n" "$name" "$(stat -c %s "streams/$name.3dvo")" \
     "$(wc -l < "streams/$name.md5")"
 done

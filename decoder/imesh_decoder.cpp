@@ -5,10 +5,14 @@
 
 #include "bitstream/syntax.h"
 #include "common/error.h"
+#include "decoder/draco_limits.h"
 
 namespace tdvo {
 
 IntMesh decodeIMesh(const std::vector<uint8_t>& payload, int gridBits, const std::string& context) {
+  // Draco allocates from the counts it reads before it checks them against the payload: those
+  // counts are checked first (draco_limits.h).
+  checkDracoMeshCounts(payload, context);
   draco::DecoderBuffer buffer;
   buffer.Init(reinterpret_cast<const char*>(payload.data()), payload.size());
   auto type = draco::Decoder::GetEncodedGeometryType(&buffer);

@@ -11,6 +11,11 @@
 #include "common/md5.h"
 #include "common/obj_io.h"
 #include "common/sequence.h"
+#include "bitstream/camera_parameters.h"
+#include "bitstream/units.h"
+#include "common/dataset.h"
+#include "common/image.h"
+#include "common/yuv.h"
 #include "decoder/stream_decoder.h"
 
 using namespace tdvo;
@@ -34,11 +39,73 @@ std::vector<std::string> readMd5Lines(const std::string& path) {
   return lines;
 }
 
+std::string cameraFolder(int camera) { return "cam" + std::to_string(camera); }
+
+// Texture frames are named like the mesh frames, with .png: "%04d.obj" -> "%04d.png".
+std::string imagePattern(const std::string& meshPattern) {
+  const size_t dot = meshPattern.rfind('.');
+  return (dot == std::string::npos ? meshPattern : meshPattern.substr(0, dot)) + ".png";
+}
+
+// The full camera frame as RGBA: the decoded box in place (the rest black), alpha from the
+// object's shape inside the box.
+Image cameraFrame(const YuvPicture& picture, const TextureBox& box, const Image& shape) {
+  const Image rgb = yuv420ToRgb(picture);
+  Image out(shape.width, shape.height, 4, 0);
+  for (int y = 0; y < box.height && box.y + y < shape.height; ++y)
+    for (int x = 0; x < box.width && box.x + x < shape.width; ++x) {
+      for (int c = 0; c < 3; ++c) out.at(box.x + x, box.y + y, c) = rgb.at(x, y, c);
+      out.at(box.x + x, box.y + y, 3) = shape.at(box.x + x, box.y + y) ? 255 : 0;
+    }
+  return out;
+}
+
+// The decoded output as a dataset (docs/dataset.md): meshes and per-camera RGBA frames.
+Dataset decodedDataset(const StreamDecoder& decoder, const std::string& folder,
+                       const std::string& meshPattern, int frames) {
+  Dataset d;
+  d.folder = folder;
+  d.description = "decoded by 3dvo-dec";
+  d.frameCount = frames;
+  d.frameRate = decoder.sequenceHeader().sh_frame_rate;
+  d.meshes = meshPattern;
+  const auto& cameras = decoder.sequenceHeader().cameras;
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    DatasetCamera dc;
+    dc.camera = toCamera(cameras[c], static_cast<int>(c));
+    dc.images = cameraFolder(static_cast<int>(c)) + "/" + imagePattern(meshPattern);
+    dc.alphaMask = true;
+    d.cameras.push_back(dc);
+  }
+  return d;
+}
+
+// Writes each camera's H.264 access units, in order, as one Annex B file DIR/cam<c>.264.
+void extractTextures(const std::string& streamPath, const std::string& name, const std::string& dir,
+                     StagedFiles& outputs) {
+  makeDirectories(dir);
+  std::vector<std::vector<uint8_t>> perCamera;
+  UnitFileReader units(streamPath, name);
+  UnitView unit;
+  while (units.next(unit)) {
+    if (unit.type != static_cast<uint8_t>(UnitType::kTexture)) continue;
+    ByteReader reader(unit.payload, unit.size, name + ": " + unit.describe(), unit.payloadOffset);
+    TextureUnit tx;
+    transfer(reader, tx);
+    if (tx.tx_camera >= perCamera.size()) perCamera.resize(tx.tx_camera + 1);
+    perCamera[tx.tx_camera].insert(perCamera[tx.tx_camera].end(), tx.tx_access_unit.begin(),
+                                   tx.tx_access_unit.end());
+  }
+  for (size_t c = 0; c < perCamera.size(); ++c)
+    outputs.write(dir + "/" + cameraFolder(static_cast<int>(c)) + ".264", perCamera[c].data(),
+                  perCamera[c].size());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   return runApp("3dvo-dec", [&]() {
-    std::string streamPath, outputDir, meshPattern = "%04d.obj", verifyPath;
+    std::string extractDir, streamPath, outputDir, meshPattern = "%04d.obj", verifyPath;
     bool trace = false;
     OptionTable table("3dvo-dec", "3dvo-dec -i STREAM.3dvo [-o OUTDIR] [--verify MD5LOG]");
     table.section("Decoder");
@@ -49,6 +116,9 @@ int main(int argc, char** argv) {
     table.add("VerifyMd5", verifyPath,
               "compare the decoded MD5 lines with this log's; exit 1 on any difference",
               "--verify");
+    table.add("ExtractTextures", extractDir,
+              "write each camera's H.264 texture stream to this folder as cam<c>.264 (Annex B)",
+              "--extract-textures");
     table.add("Trace", trace, "print every syntax element read to stderr", "--trace");
     if (!table.parseCommandLine(argc, argv)) return 0;
     check(!streamPath.empty(), "no stream given (-i STREAM.3dvo; see --help)");
@@ -72,42 +142,69 @@ int main(int argc, char** argv) {
       makeDirectories(outputDir);
     }
 
-    const std::vector<uint8_t> stream = readFileBytes(streamPath);
-    StreamDecoder decoder(stream.data(), stream.size(), streamPath, trace ? stderr : nullptr);
+    // Units are read from the file one at a time and every frame is written (and released) as
+    // soon as it is decoded: memory does not grow with the length of the sequence.
+    UnitFileReader units(streamPath, streamPath);
+    const uint64_t streamBytes = units.fileSize();
+    StreamDecoder decoder(units, streamPath, trace ? stderr : nullptr);
     StagedFiles outputs;
     uint64_t vertexFrames = 0;
     int frames = 0;
-    decoder.decode([&](int frame, const IntMesh& mesh) {
-      const std::string line = geometryHashLine(frame, mesh);
+    size_t lines = 0;  // MD5 lines printed so far, compared in order with the log's
+    auto report = [&](const std::string& line) {
       std::printf("%s\n", line.c_str());
-      if (!verifyPath.empty()) {
-        check(static_cast<size_t>(frame) < expected.size(),
-              verifyPath + ": has no line for frame " + std::to_string(frame));
-        check(expected[frame] == line, verifyPath + ": frame " + std::to_string(frame) +
-                                           " differs: expected '" + expected[frame] + "'");
-      }
-      if (!outputDir.empty())
-        outputs.write(outputDir + "/" + framePath(meshPattern, frame),
-                      formatObj(decoder.grid().dequantise(mesh)));
-      vertexFrames += mesh.positions.size();
-      frames = frame + 1;
-    });
+      if (verifyPath.empty()) return;
+      check(lines < expected.size(), verifyPath + ": has no line for '" + line + "'");
+      check(expected[lines] == line,
+            verifyPath + ": line " + std::to_string(lines + 1) + " of its MD5 lines differs: "
+                "expected '" + expected[lines] + "', decoded '" + line + "'");
+      ++lines;
+    };
+    decoder.decode(
+        [&](int frame, const IntMesh& mesh) {
+          report(geometryHashLine(frame, mesh));
+          if (!outputDir.empty())
+            outputs.write(outputDir + "/" + framePath(meshPattern, frame),
+                          formatObj(decoder.grid().dequantise(mesh)));
+          vertexFrames += mesh.positions.size();
+          frames = frame + 1;
+        },
+        [&](int frame, int camera, const YuvPicture& picture, const Image& shape) {
+          report(textureHashLine(frame, camera, picture));
+          if (outputDir.empty()) return;
+          const CameraParameters& c = decoder.sequenceHeader().cameras[camera];
+          const std::string folder = outputDir + "/" + cameraFolder(camera);
+          makeDirectories(folder);
+          const std::vector<uint8_t> png = encodePng(cameraFrame(picture, textureBox(c), shape));
+          outputs.write(folder + "/" + framePath(imagePattern(meshPattern), frame), png.data(),
+                        png.size());
+        });
     if (!verifyPath.empty())
-      check(expected.size() == static_cast<size_t>(frames),
-            verifyPath + ": has " + std::to_string(expected.size()) + " MD5 lines, decoded " +
-                std::to_string(frames) + " frames");
+      check(expected.size() == lines, verifyPath + ": has " + std::to_string(expected.size()) +
+                                           " MD5 lines, the stream gives " +
+                                           std::to_string(lines));
+    if (!outputDir.empty() && !decoder.sequenceHeader().cameras.empty())
+      outputs.write(outputDir + "/" + kDatasetFileName,
+                    formatDataset(decodedDataset(decoder, outputDir, meshPattern, frames),
+                                  outputDir));
+    if (!extractDir.empty()) extractTextures(streamPath, streamPath, extractDir, outputs);
     outputs.commit();
     createdFolder.keep = true;
 
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const double bits = 8.0 * stream.size();
+    const double bits = 8.0 * streamBytes;
     const double fps = decoder.sequenceHeader().sh_frame_rate;
     std::printf("# summary\n");
     std::printf("frames              : %d\n", frames);
     if (!outputDir.empty()) std::printf("output              : %s\n", outputDir.c_str());
-    std::printf("bytes               : %zu\n", stream.size());
-    std::printf("bits/vertex/frame   : %.4f\n", bits / static_cast<double>(vertexFrames));
+    std::printf("bytes               : %zu\n", static_cast<size_t>(streamBytes));
+    const uint64_t textureBytes = decoder.textureBytes();
+    std::printf("bits/vertex/frame   : %.4f (geometry and headers only)\n",
+                8.0 * (streamBytes - textureBytes) / static_cast<double>(vertexFrames));
+    if (textureBytes > 0)
+      std::printf("texture kbit/s      : %.3f (all cameras)\n",
+                  8.0 * textureBytes / 1000.0 / (frames / fps));
     std::printf("kbit/s at %g fps    : %.3f\n", fps, bits / 1000.0 / (frames / fps));
     std::printf("time                : %.3f s\n", seconds);
     if (!verifyPath.empty()) std::printf("verify              : all %d frames match\n", frames);

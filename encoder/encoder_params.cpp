@@ -1,5 +1,7 @@
 #include "encoder/encoder_params.h"
 
+#include <thread>
+
 #include "common/error.h"
 #include "common/sequence.h"
 
@@ -40,6 +42,30 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.add("KeyframeMaxError", keyframeMaxError, 0, 1e9,
         "instead of KeyframeCount: add keyframes until no interpolated coordinate is off by "
         "more than this many grid units; 0 = off");
+  t.section("Speed");
+  t.add("Threads", threads, 0, 256,
+        "GOMs encoded in parallel (0 = hardware concurrency); the stream, the MD5 lines and "
+        "the reconstruction are identical for any value");
+  t.section("Textures");
+  t.add("Dataset", dataset,
+        "dataset folder (docs/dataset.md) with the cameras and their videos: when set, every "
+        "camera's texture is coded; without InputMeshPattern its meshes are the geometry");
+  t.addEnum("TextureMode", textureMode, {{"bbox", TextureBoxMode::kBox}, {"full", TextureBoxMode::kFull}},
+            "what each camera's H.264 pictures cover: bbox = the object's macroblock-aligned "
+            "bounding box over the sequence; full = the whole camera frame");
+  t.addEnum("TexturePadding", texturePadding,
+            {{"mb128", TexturePadding::kMb128}, {"none", TexturePadding::kNone},
+             {"extrapolate", TexturePadding::kExtrapolate}},
+            "pixels outside the object's shape: none = left as they are; mb128 = macroblocks "
+            "the shape does not touch set to Y=Cb=Cr=128; extrapolate = mb128 plus MPEG-4-style "
+            "repetitive padding inside the shape's boundary macroblocks");
+  t.add("TextureQP", textureQp, 0, 51, "H.264 constant QP (when TextureBitrate is 0)");
+  t.add("TextureBitrate", textureBitrate, 0, 1000000,
+        "H.264 average bitrate per camera in kbit/s instead of a constant QP; 0 = off");
+  t.add("TexturePreset", texturePreset, "x264 preset (ultrafast .. placebo)");
+  t.add("TextureBoxMargin", textureBoxMargin, 0, 1024,
+        "bbox mode: pixels added around the input geometry's shape before aligning the box "
+        "(room for the decoded geometry's shape)");
   t.section("Output");
   t.add("BitstreamFile", bitstreamFile, "the .3dvo stream to write", "-o");
   t.add("ReconMeshPattern", reconMeshPattern,
@@ -52,10 +78,17 @@ double EncoderParams::effectiveLambda() const {
   return motionQuantStep == 1 ? 0.0 : kAutoLambdaFactor * motionQuantStep * motionQuantStep;
 }
 
+int EncoderParams::threadCount() const {
+  if (threads > 0) return threads;
+  const unsigned hardware = std::thread::hardware_concurrency();
+  return hardware > 0 ? static_cast<int>(hardware) : 1;
+}
+
 void EncoderParams::validate() const {
-  check(!inputMeshPattern.empty(), "InputMeshPattern is not set (see --help)");
+  check(!inputMeshPattern.empty() || !dataset.empty(),
+        "InputMeshPattern is not set, nor a Dataset with meshes (see --help)");
   check(!bitstreamFile.empty(), "BitstreamFile is not set (see --help)");
-  checkFramePattern(inputMeshPattern, "InputMeshPattern");
+  if (!inputMeshPattern.empty()) checkFramePattern(inputMeshPattern, "InputMeshPattern");
   if (!reconMeshPattern.empty()) checkFramePattern(reconMeshPattern, "ReconMeshPattern");
   check(!(keyframeCount > 0 && keyframeMaxError > 0),
         "KeyframeCount and KeyframeMaxError exclude each other: set one of them");

@@ -5,8 +5,13 @@
 
 #include "bitstream/syntax.h"
 #include "common/config.h"
+#include "encoder/texture_padding.h"
 
 namespace tdvo {
+
+// What each camera's H.264 pictures cover: the whole frame, or the object's macroblock-aligned
+// bounding box over the sequence.
+enum class TextureBoxMode { kFull = 0, kBox = 1 };
 
 struct EncoderParams {
   // Input
@@ -26,6 +31,16 @@ struct EncoderParams {
   // Keyframes (P-mesh modes): 0 / 0 = every frame a keyframe
   int keyframeCount = 0;
   double keyframeMaxError = 0;
+  // Speed
+  int threads = 1;  // GOMs encoded in parallel; 0 = hardware concurrency (see threadCount())
+  // Textures (coded when Dataset is set)
+  std::string dataset;
+  TextureBoxMode textureMode = TextureBoxMode::kBox;
+  TexturePadding texturePadding = TexturePadding::kMb128;
+  int textureQp = 28;
+  int textureBitrate = 0;
+  std::string texturePreset = "medium";
+  int textureBoxMargin = 8;
   // Output
   std::string bitstreamFile;
   std::string reconMeshPattern;
@@ -35,6 +50,8 @@ struct EncoderParams {
   // above, so that coarser residual quantisation also means coarser clustering.
   static constexpr double kAutoLambdaFactor = 0.1;
   double effectiveLambda() const;
+  // Threads to use: Threads, or the hardware concurrency (at least 1) when Threads is 0.
+  int threadCount() const;
 
   // Binds every field to its cfg key (the single list of keys; docs/options.md mirrors it).
   void registerOptions(OptionTable& table);

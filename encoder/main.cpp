@@ -2,6 +2,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "common/app.h"
 #include "common/file_io.h"
@@ -9,7 +10,10 @@
 #include "common/obj_io.h"
 #include "common/progress.h"
 #include "common/sequence.h"
+#include "common/dataset.h"
+#include "common/yuv.h"
 #include "encoder/sequence_encoder.h"
+#include "encoder/texture_encoder.h"
 
 using namespace tdvo;
 
@@ -23,28 +27,51 @@ int main(int argc, char** argv) {
     const auto start = std::chrono::steady_clock::now();
     std::printf("# 3dvo-enc effective configuration\n%s\n", table.effectiveConfig().c_str());
 
-    std::vector<Mesh> frames;
+    // Input. OBJ frames named by a pattern are read twice, never all at once: a first pass takes
+    // the sequence's bounding box (the grid needs it) frame by frame, then the encoder reads
+    // each GOM's frames when it codes that GOM, so memory is bounded by a few GOMs, not by the
+    // sequence. A dataset is read up front, as its texture boxes need every frame's geometry
+    // (room for textures: fold that into the bounding-box pass).
+    std::vector<Mesh> frames;  // datasets only
     std::vector<std::string> names;
-    {
-      Progress progress("reading frames", params.frameCount);
-      for (int k = 0; k < params.frameCount; ++k) {
-        names.push_back(framePath(params.inputMeshPattern, params.firstFrame + k));
-        frames.push_back(readObj(names.back()));
-        progress.tick(k + 1);
-      }
+    FrameSource source;
+    Dataset dataset;
+    if (!params.dataset.empty()) dataset = readDataset(params.dataset);
+    if (!params.inputMeshPattern.empty()) {
+      source.count = static_cast<size_t>(params.frameCount);
+      source.name = [&params](size_t k) {
+        return framePath(params.inputMeshPattern, params.firstFrame + static_cast<int>(k));
+      };
+      source.read = [&source](size_t k) { return readObj(source.name(k)); };
+    } else {
+      frames = readDatasetFrames(dataset, params.firstFrame, params.frameCount);
+      for (int k = 0; k < params.frameCount; ++k)
+        names.push_back(dataset.framePath(dataset.meshes, params.firstFrame + k));
+      source.count = frames.size();
+      source.name = [&names](size_t k) { return names[k]; };
+      source.read = [&frames](size_t k) { return frames[k]; };
     }
+    std::unique_ptr<TextureEncoder> textures;
+    if (!params.dataset.empty()) textures = std::make_unique<TextureEncoder>(params, dataset, frames);
 
-    const Grid grid = gridForSequence(frames, params.gridBits);
+    Grid grid;
+    {
+      Progress progress("reading frames", source.count);
+      grid = gridForSequence(source, params.gridBits, params.threadCount(),
+                             [&](size_t k) { progress.tick(k + 1); });
+    }
     StagedFiles outputs;
     EncodedSequence coded;
     {
-      Progress progress("encoding frames", frames.size());
-      coded = encodeSequence(params, grid, frames, names, [&](int frame, const IntMesh& recon) {
+      Progress progress("encoding frames", source.count);
+      coded = encodeSequence(params, grid, source, [&](int frame, const IntMesh& recon) {
         std::printf("%s\n", geometryHashLine(frame, recon).c_str());
         if (!params.reconMeshPattern.empty())
           outputs.write(framePath(params.reconMeshPattern, frame),
                         formatObj(grid.dequantise(recon)));
         progress.tick(frame + 1);
+      }, textures.get(), [&](int frame, int camera, const YuvPicture& picture, const Image&) {
+        std::printf("%s\n", textureHashLine(frame, camera, picture).c_str());
       });
     }
     outputs.write(params.bitstreamFile, coded.stream.data(), coded.stream.size());
@@ -54,15 +81,22 @@ int main(int argc, char** argv) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double bits = 8.0 * coded.stream.size();
     std::printf("# summary\n");
-    std::printf("frames              : %zu\n", frames.size());
+    std::printf("frames              : %zu\n", source.count);
     std::printf("stream              : %s\n", params.bitstreamFile.c_str());
-    std::printf("bytes               : %zu (headers %llu, I meshes %llu, P meshes %llu)\n",
+    std::printf("bytes               : %zu (headers %llu, I meshes %llu, P meshes %llu, "
+                "textures %llu)\n",
                 coded.stream.size(), static_cast<unsigned long long>(coded.headerBytes),
                 static_cast<unsigned long long>(coded.iMeshBytes),
-                static_cast<unsigned long long>(coded.pMeshBytes));
-    std::printf("bits/vertex/frame   : %.4f\n", bits / static_cast<double>(coded.vertexFrames));
+                static_cast<unsigned long long>(coded.pMeshBytes),
+                static_cast<unsigned long long>(coded.textureBytes));
+    const double geometryBits = 8.0 * (coded.stream.size() - coded.textureBytes);
+    std::printf("bits/vertex/frame   : %.4f (geometry and headers only)\n",
+                geometryBits / static_cast<double>(coded.vertexFrames));
+    if (coded.textureBytes > 0)
+      std::printf("texture kbit/s      : %.3f (all cameras)\n",
+                  8.0 * coded.textureBytes / 1000.0 / (source.count / params.frameRate));
     std::printf("kbit/s at %g fps    : %.3f\n", params.frameRate,
-                bits / 1000.0 / (frames.size() / params.frameRate));
+                bits / 1000.0 / (source.count / params.frameRate));
     std::printf("grid error          : RMSE %.4f, max %lld (grid units, vs the quantised input)\n",
                 std::sqrt(coded.sumSquaredError / (3.0 * coded.vertexFrames)),
                 static_cast<long long>(coded.maxAbsError));

@@ -7,11 +7,14 @@ namespace tdvo {
 
 namespace {
 
-// Estimated bits of a signed Exp-Golomb-like code for v (sign included when v != 0).
+// Estimated bits of a signed Exp-Golomb-like code for v (sign included when v != 0):
+// 2 + 2 floor(log2 |v|), with floor(log2 |v|) taken as the index of the highest set bit: the
+// same value as std::floor(std::log2(double(|v|))) for every |v| < 2^24 (checked for all of
+// them; motions and their differences stay below 2^23 on a 20-bit grid), without libm.
 double signedBits(int64_t v) {
   if (v == 0) return 1.0;
   const uint64_t a = static_cast<uint64_t>(v < 0 ? -v : v);
-  return 2.0 + 2.0 * std::floor(std::log2(static_cast<double>(a)));
+  return 2.0 + 2.0 * (63 - __builtin_clzll(a));
 }
 
 // One visited octree cell in traversal order: a split, or a leaf with its mode.
@@ -167,6 +170,7 @@ PMeshEncoding encodeTemporalDpcm(const std::vector<Vec3i>& previous,
   PMeshEncoding out;
   out.reconstruction = codeTemporalDpcm(io, decisions, previous, params);
   out.payload = io.finish();
+  out.bins = io.binCount();
   return out;
 }
 
@@ -185,6 +189,7 @@ PMeshEncoding encodePMesh(const GomTopology& topology, const std::vector<Vec3i>&
   PMeshEncoding out;
   out.reconstruction = codePMesh(io, rd, topology, previous, params);
   out.payload = io.finish();
+  out.bins = io.binCount();
   return out;
 }
 

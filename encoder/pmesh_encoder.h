@@ -22,6 +22,7 @@ namespace tdvo {
 struct PMeshEncoding {
   std::vector<uint8_t> payload;       // pm_cabac_payload
   std::vector<Vec3i> reconstruction;  // the decoder's result for this payload
+  uint64_t bins = 0;                  // CABAC bins coded (regular, bypass, terminate)
 };
 
 PMeshEncoding encodePMesh(const GomTopology& topology, const std::vector<Vec3i>& previous,

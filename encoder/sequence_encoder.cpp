@@ -2,16 +2,13 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "bitstream/units.h"
 #include "common/error.h"
-#include "common/keyframes.h"
-#include "decoder/pmesh_decoder.h"
-#include "encoder/imesh_encoder.h"
-#include "encoder/keyframe_selection.h"
-#include "encoder/pmesh_encoder.h"
+#include "common/ordered_parallel.h"
+#include "encoder/gom_coder.h"
 
 namespace tdvo {
 
@@ -24,162 +21,68 @@ std::vector<uint8_t> serialise(T value) {
   return writer.take();
 }
 
-// Encodes GOM by GOM into `units`, reporting every reconstructed frame in order.
-class GomEncoder {
+// Appends coded GOMs to the stream in GOM order and reports every reconstructed frame in frame
+// order (then the GOM's textures), exactly as if the GOMs had been coded one after the other.
+class GomWriter {
  public:
-  GomEncoder(const EncoderParams& params, const Grid& grid, const std::vector<Mesh>& frames,
-             const std::vector<std::string>& frameNames, const FrameCallback& onFrame,
-             UnitWriter& units, EncodedSequence& out)
-      : params_(params),
-        grid_(grid),
-        frames_(frames),
-        frameNames_(frameNames),
+  GomWriter(const Grid& grid, const FrameCallback& onFrame, TextureEncoder* textures,
+            const TextureCallback& onTexture, UnitWriter& units, EncodedSequence& out,
+            bool keepInputIndex)
+      : grid_(grid),
         onFrame_(onFrame),
+        textures_(textures),
+        onTexture_(onTexture),
         units_(units),
-        out_(out) {
-    pmParams_.gridBits = params.gridBits;
-    pmParams_.quantStep = params.motionQuantStep;
-    pmParams_.maxDepth = std::min(params.maxOctreeDepth, params.gridBits);
-  }
+        out_(out),
+        keepInputIndex_(keepInputIndex) {}
 
-  void encodeGom(size_t first, size_t count) {
-    const bool pMeshes = params_.pmeshMode != PMeshMode::kIntra;
-    std::vector<IntMesh> inputs;
-    for (size_t k = 0; k < count; ++k)
-      inputs.push_back(grid_.quantise(frames_[first + k]));
-    if (pMeshes) checkConstantConnectivity(first, count);
-
-    GomHeader gh;
-    gh.gh_first_frame = static_cast<uint32_t>(first);
-    gh.gh_frame_count = static_cast<uint16_t>(count);
-    gh.gh_pmesh_mode = static_cast<uint8_t>(params_.pmeshMode);
-    gh.gh_motion_quant_step = static_cast<uint16_t>(pmParams_.quantStep);
-    gh.gh_max_octree_depth = static_cast<uint8_t>(pmParams_.maxDepth);
-    if (pMeshes) {
-      std::vector<std::vector<Vec3i>> positions;
-      for (const IntMesh& m : inputs)
-        positions.push_back(m.positions);
-      const std::vector<int> keys =
-          selectKeyframes(positions, params_.keyframeCount, params_.keyframeMaxError);
-      gh.keyframes.assign(keys.begin(), keys.end());
-    }
-    units_.write(UnitType::kGomHeader, serialise(gh));
-
-    if (!pMeshes) {
-      for (size_t k = 0; k < count; ++k) {
-        const IMeshEncoding i = codeIMesh(first + k, inputs[k]);
-        emit(first + k, i.decoded.positions, i, inputs[k]);
-      }
-      return;
-    }
-
-    const IMeshEncoding i = codeIMesh(first, inputs[0]);
-    const GomTopology topology =
-        params_.pmeshMode == PMeshMode::kD3dmc ? GomTopology::build(i.decoded) : GomTopology();
-    emit(first, i.decoded.positions, i, inputs[0]);
-    std::vector<Vec3i> previous = i.decoded.positions;
-    for (size_t n = 1; n < gh.keyframes.size(); ++n) {
-      const int a = gh.keyframes[n - 1], b = gh.keyframes[n];
-      // The keyframe's target in the GOM's vertex order (Draco's decoded order).
-      std::vector<Vec3i> target(i.inputIndex.size());
-      for (size_t j = 0; j < target.size(); ++j)
-        target[j] = inputs[b].positions[i.inputIndex[j]];
-      std::vector<Vec3i> key = codePMesh(first + b, topology, previous, target);
-      for (int f = a + 1; f < b; ++f)
-        emit(first + f, interpolateFrame(previous, key, a, b, f), i, inputs[f]);
-      emit(first + b, key, i, inputs[b]);
-      previous = std::move(key);
-    }
+  void write(size_t first, const GomGeometry& gom) {
+    gomDecoded_.clear();
+    for (const std::string& warning : gom.warnings)
+      std::fprintf(stderr, "3dvo-enc: warning: %s\n", warning.c_str());
+    for (const GomGeometry::Unit& unit : gom.units)
+      units_.write(unit.type, unit.payload);
+    for (size_t k = 0; k < gom.frames.size(); ++k)
+      emit(first + k, gom.frames[k], gom.iMeshes[gom.frames[k].iMesh]);
+    // Textures (if any) are coded here, on the calling thread, GOM after GOM.
+    if (textures_) textures_->encodeGom(first, gomDecoded_, grid_, units_, onTexture_);
   }
 
  private:
-  std::string frameName(size_t frame) const {
-    return frame < frameNames_.size() ? frameNames_[frame] : "frame " + std::to_string(frame);
-  }
-
-  // P meshes carry positions only: the GOM's frames must share the first frame's connectivity.
-  void checkConstantConnectivity(size_t first, size_t count) const {
-    const Mesh& a = frames_[first];
-    for (size_t k = 1; k < count; ++k) {
-      const Mesh& b = frames_[first + k];
-      check(a.positions.size() == b.positions.size(),
-            frameName(first + k) + ": " + std::to_string(b.positions.size()) +
-                " vertices, but the GOM's first frame (" + frameName(first) + ") has " +
-                std::to_string(a.positions.size()) +
-                " (P meshes need constant connectivity; use GOMSize or PMeshMode intra)");
-      check(a.triangles == b.triangles,
-            frameName(first + k) + ": connectivity differs from the GOM's first frame (" +
-                frameName(first) + "); P meshes need constant connectivity");
-    }
-  }
-
-  IMeshEncoding codeIMesh(size_t frame, const IntMesh& input) {
-    for (const Triangle& t : input.triangles)
-      check(t[0] != t[1] && t[1] != t[2] && t[0] != t[2],
-            frameName(frame) + ": triangle with a repeated vertex (degenerate face)");
-    IMeshEncoding i = encodeIMesh(input, params_.gridBits, params_.dracoSpeed);
-    // Draco does not keep vertices that no triangle uses; say so rather than drop them quietly.
-    if (i.decoded.positions.size() != input.positions.size())
-      std::fprintf(stderr, "3dvo-enc: warning: %s: %zu vertices in, %zu coded (Draco drops "
-                   "vertices no triangle uses and splits non-manifold ones)\n",
-                   frameName(frame).c_str(), input.positions.size(), i.decoded.positions.size());
-    if (i.unmatchedTriangles > 0)
-      std::fprintf(stderr, "3dvo-enc: warning: %s: %zu decoded triangles have no input twin; "
-                   "P meshes of this GOM may predict poorly\n",
-                   frameName(frame).c_str(), i.unmatchedTriangles);
-    IMeshUnit im;
-    im.im_frame = static_cast<uint32_t>(frame);
-    im.im_draco_payload = i.payload;
-    units_.write(UnitType::kIMesh, serialise(std::move(im)));
-    return i;
-  }
-
-  std::vector<Vec3i> codePMesh(size_t frame, const GomTopology& topology,
-                               const std::vector<Vec3i>& previous,
-                               const std::vector<Vec3i>& target) {
-    const bool d3dmc = params_.pmeshMode == PMeshMode::kD3dmc;
-    PMeshEncoding p =
-        d3dmc ? encodePMesh(topology, previous, target, pmParams_, params_.effectiveLambda())
-              : encodeTemporalDpcm(previous, target, pmParams_);
-    // Closed loop: what the decoder makes of the payload must be the encoder's
-    // reconstruction, bit for bit.
-    const std::string context = "encoder's own P mesh";
-    const std::vector<Vec3i> decoded =
-        d3dmc ? decodePMesh(p.payload, topology, previous, pmParams_, context)
-              : decodeTemporalDpcm(p.payload, previous, pmParams_, context);
-    if (decoded != p.reconstruction)
-      throw std::logic_error("P-mesh reconstruction differs from the decoder's (frame " +
-                             std::to_string(frame) + ")");
-    PMeshUnit pm;
-    pm.pm_frame = static_cast<uint32_t>(frame);
-    pm.pm_cabac_payload = std::move(p.payload);
-    units_.write(UnitType::kPMesh, serialise(std::move(pm)));
-    return std::move(p.reconstruction);
-  }
-
   // Reports a reconstructed frame and accounts its error against the quantised input.
-  void emit(size_t frame, const std::vector<Vec3i>& positions, const IMeshEncoding& i,
-            const IntMesh& input) {
-    for (size_t j = 0; j < positions.size(); ++j)
+  void emit(size_t frame, const GomGeometry::Frame& f, const IMeshEncoding& i) {
+    for (size_t j = 0; j < f.positions.size(); ++j)
       for (int c = 0; c < 3; ++c) {
-        const int64_t e = int64_t{positions[j][c]} - input.positions[i.inputIndex[j]][c];
+        const int64_t e = int64_t{f.positions[j][c]} - f.input[i.inputIndex[j]][c];
         out_.sumSquaredError += double(e) * double(e);
         out_.maxAbsError = std::max(out_.maxAbsError, e < 0 ? -e : e);
       }
-    out_.frameInputIndex.push_back(i.inputIndex);
-    out_.vertexFrames += positions.size();
-    onFrame_(static_cast<int>(frame), IntMesh{positions, i.decoded.triangles});
+    if (keepInputIndex_) out_.frameInputIndex.push_back(i.inputIndex);
+    out_.vertexFrames += f.positions.size();
+    gomDecoded_.push_back(IntMesh{f.positions, i.decoded.triangles});
+    onFrame_(static_cast<int>(frame), gomDecoded_.back());
+    if (!textures_) gomDecoded_.clear();  // kept only for the GOM's textures
   }
 
-  const EncoderParams& params_;
   const Grid& grid_;
-  const std::vector<Mesh>& frames_;
-  const std::vector<std::string>& frameNames_;
   const FrameCallback& onFrame_;
+  TextureEncoder* textures_;
+  const TextureCallback& onTexture_;
+  std::vector<IntMesh> gomDecoded_;  // the current GOM's reconstruction, for its textures
   UnitWriter& units_;
   EncodedSequence& out_;
-  PMeshParams pmParams_;
+  bool keepInputIndex_;
 };
+
+FrameSource sourceOf(const std::vector<Mesh>& frames, const std::vector<std::string>& names) {
+  FrameSource source;
+  source.count = frames.size();
+  source.read = [&frames](size_t k) { return frames[k]; };
+  source.name = [&names](size_t k) {
+    return k < names.size() ? names[k] : "frame " + std::to_string(k);
+  };
+  return source;
+}
 
 }  // namespace
 
@@ -189,32 +92,82 @@ Grid gridForSequence(const std::vector<Mesh>& frames, int bits) {
   return Grid::fromBounds(lo, hi, bits);
 }
 
+Grid gridForSequence(const FrameSource& source, int bits, int threads,
+                     const std::function<void(size_t frame)>& onFrameRead) {
+  // boundingBox()'s fold, frame after frame in order, so the result is the same bit for bit.
+  Vec3d lo{0, 0, 0}, hi{0, 0, 0};
+  bool any = false;
+  orderedParallelFor<Mesh>(
+      source.count, threads, 2 * static_cast<size_t>(threads),
+      [&](size_t k) { return source.read(k); },
+      [&](size_t k, Mesh& mesh) {
+        for (const Vec3d& p : mesh.positions) {
+          for (int a = 0; a < 3; ++a) {
+            lo[a] = any ? std::min(lo[a], p[a]) : p[a];
+            hi[a] = any ? std::max(hi[a], p[a]) : p[a];
+          }
+          any = true;
+        }
+        if (onFrameRead) onFrameRead(k);
+      });
+  check(any, "no vertex positions to bound");
+  return Grid::fromBounds(lo, hi, bits);
+}
+
 EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
                                const std::vector<Mesh>& frames,
                                const std::vector<std::string>& frameNames,
-                               const FrameCallback& onFrame) {
-  check(!frames.empty(), "no frames to encode");
-  check(frames.size() <= kMaxFrames, "too many frames");
+                               const FrameCallback& onFrame, TextureEncoder* textures,
+                               const TextureCallback& onTexture) {
+  return encodeSequence(params, grid, sourceOf(frames, frameNames), onFrame, textures, onTexture,
+                        true);
+}
+
+EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
+                               const FrameSource& source, const FrameCallback& onFrame,
+                               TextureEncoder* textures, const TextureCallback& onTexture,
+                               bool keepInputIndex) {
+  check(source.count > 0, "no frames to encode");
+  check(source.count <= kMaxFrames, "too many frames");
   check(grid.bits == params.gridBits, "grid and GridBits disagree");
   EncodedSequence out;
   UnitWriter units;
   SequenceHeader sh;
-  sh.sh_frame_count = static_cast<uint32_t>(frames.size());
+  sh.sh_frame_count = static_cast<uint32_t>(source.count);
   sh.sh_frame_rate = params.frameRate;
   sh.sh_grid_bits = static_cast<uint8_t>(params.gridBits);
   for (int a = 0; a < 3; ++a)
     sh.sh_grid_origin[a] = grid.origin[a];
   sh.sh_grid_step = grid.step;
+  if (textures) sh.cameras = textures->cameras();
   units.write(UnitType::kSequenceHeader, serialise(sh));
 
-  GomEncoder gomEncoder(params, grid, frames, frameNames, onFrame, units, out);
-  for (size_t first = 0; first < frames.size(); first += params.gomSize)
-    gomEncoder.encodeGom(first, std::min<size_t>(params.gomSize, frames.size() - first));
+  // GOMs are coded in parallel (Threads) and written in order. Each task reads its own frames,
+  // so at most 2 * Threads GOMs of frames are in memory at once, however long the sequence.
+  const size_t gomSize = static_cast<size_t>(params.gomSize);
+  const size_t goms = (source.count + gomSize - 1) / gomSize;
+  const int threads = params.threadCount();
+  auto frameName = [&source](size_t k) {
+    return source.name ? source.name(k) : "frame " + std::to_string(k);
+  };
+  GomWriter writer(grid, onFrame, textures, onTexture, units, out, keepInputIndex);
+  orderedParallelFor<GomGeometry>(
+      goms, threads, 2 * static_cast<size_t>(threads),
+      [&](size_t g) {
+        const size_t first = g * gomSize, count = std::min(gomSize, source.count - first);
+        std::vector<Mesh> frames;
+        frames.reserve(count);
+        for (size_t k = 0; k < count; ++k)
+          frames.push_back(source.read(first + k));
+        return encodeGomGeometry(params, grid, first, std::move(frames), frameName);
+      },
+      [&](size_t g, GomGeometry& gom) { writer.write(g * gomSize, gom); });
 
   out.headerBytes = units.bytesOfType(UnitType::kSequenceHeader) +
                     units.bytesOfType(UnitType::kGomHeader) + sizeof kStreamMagic;
   out.iMeshBytes = units.bytesOfType(UnitType::kIMesh);
   out.pMeshBytes = units.bytesOfType(UnitType::kPMesh);
+  out.textureBytes = units.bytesOfType(UnitType::kTexture);
   out.stream = units.bytes();
   return out;
 }

@@ -1,6 +1,7 @@
 // Encoding of a whole mesh sequence into a 3DVO stream.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -10,6 +11,7 @@
 #include "common/mesh.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/encoder_params.h"
+#include "encoder/texture_encoder.h"
 
 namespace tdvo {
 
@@ -18,7 +20,7 @@ struct EncodedSequence {
   // Per frame: decoded vertex index -> input vertex index (the GOM's vertex order, see
   // imesh_encoder.h). Lets tests and metrics compare decoded frames with the input.
   std::vector<std::vector<uint32_t>> frameInputIndex;
-  uint64_t headerBytes = 0, iMeshBytes = 0, pMeshBytes = 0;
+  uint64_t headerBytes = 0, iMeshBytes = 0, pMeshBytes = 0, textureBytes = 0;
   uint64_t vertexFrames = 0;  // sum over frames of the decoded vertex count
   // Reconstruction error against the input quantised to the grid, in grid units, over all
   // vertex coordinates of all frames (0 and 0 when coding is lossless on the grid).
@@ -26,8 +28,23 @@ struct EncodedSequence {
   int64_t maxAbsError = 0;
 };
 
+// The input frames of a sequence, read on demand, so that the encoder never holds more than a
+// few GOMs of them. read(k) returns frame k (0-based); with Threads > 1 it is called from
+// several threads at once (for different frames), so it must be thread-safe. name(k) names
+// frame k's source in error messages (may be empty: "frame k").
+struct FrameSource {
+  size_t count = 0;
+  std::function<Mesh(size_t frame)> read;
+  std::function<std::string(size_t frame)> name;
+};
+
 // The grid for a sequence: its bounding box over all frames at `bits`.
 Grid gridForSequence(const std::vector<Mesh>& frames, int bits);
+// The same grid from frames read one by one (`threads` at a time) and released as soon as
+// their bounds are taken; `onFrameRead(k)` (optional) is called in frame order on the calling
+// thread. Errors of read() come out in frame order, as if read sequentially.
+Grid gridForSequence(const FrameSource& source, int bits, int threads = 1,
+                     const std::function<void(size_t frame)>& onFrameRead = {});
 
 // Encodes `frames` on `grid` (normally gridForSequence(frames, params.gridBits); already read;
 // frame k of the stream is frames[k]; `frameNames`, if not empty, names each frame's source in
@@ -37,6 +54,17 @@ Grid gridForSequence(const std::vector<Mesh>& frames, int bits);
 EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
                                const std::vector<Mesh>& frames,
                                const std::vector<std::string>& frameNames,
-                               const FrameCallback& onFrame);
+                               const FrameCallback& onFrame, TextureEncoder* textures = nullptr,
+                               const TextureCallback& onTexture = {});
+
+// The same for frames read on demand: GOM by GOM, params.threadCount() GOMs coded in parallel,
+// the stream and every callback in the order of a sequential run (byte-identical for any
+// thread count). At most 2 * threads GOMs of frames and results are held at once. The frames'
+// vertex order is kept in frameInputIndex only when `keepInputIndex` (it grows with the
+// sequence; the overload above keeps it).
+EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
+                               const FrameSource& source, const FrameCallback& onFrame,
+                               TextureEncoder* textures = nullptr,
+                               const TextureCallback& onTexture = {}, bool keepInputIndex = false);
 
 }  // namespace tdvo

@@ -197,20 +197,20 @@ TEST_F(AppsTest, VerifyPassesAndFailsOnAnEditedLog) {
   digit = digit == '0' ? '1' : '0';
   test::writeText(dir_.file("edited.log"), edited);
   expectFailure(kDecoder, {"-i", "seq.3dvo", "-o", "out", "--verify", "edited.log"},
-                {"edited.log: frame 3 differs: expected 'MD5 frame=3 geometry="});
+                {"edited.log: line 4 of its MD5 lines differs: expected 'MD5 frame=3 geometry="});
 
   // A log with a frame missing.
   std::string shorter = enc.out;
   shorter.erase(shorter.find("MD5 frame=5"));
   test::writeText(dir_.file("short.log"), shorter);
   expectFailure(kDecoder, {"-i", "seq.3dvo", "-o", "out", "--verify", "short.log"},
-                {"short.log: has no line for frame 5"});
+                {"short.log: has no line for 'MD5 frame=5 geometry="});
 
   // A log with one frame too many.
   test::writeText(dir_.file("long.log"),
                   enc.out + "MD5 frame=6 geometry=00000000000000000000000000000000\n");
   expectFailure(kDecoder, {"-i", "seq.3dvo", "-o", "out", "--verify", "long.log"},
-                {"long.log: has 7 MD5 lines, decoded 6 frames"});
+                {"long.log: has 7 MD5 lines, the stream gives 6"});
 }
 
 TEST_F(AppsTest, HelpListsTheKeys) {

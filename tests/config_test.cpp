@@ -359,7 +359,7 @@ TEST(Config, EncoderValidate) {
     params.validate();
     FAIL() << "no error";
   } catch (const Error& e) {
-    EXPECT_EQ(std::string(e.what()), "InputMeshPattern is not set (see --help)");
+    EXPECT_EQ(std::string(e.what()), "InputMeshPattern is not set, nor a Dataset with meshes (see --help)");
   }
   params.inputMeshPattern = "in/%04d.obj";
   params.bitstreamFile = "x.3dvo";

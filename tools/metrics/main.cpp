@@ -1,6 +1,8 @@
 // 3dvo-metrics: geometry distortion between a reference and a test mesh sequence (or two single
 // meshes): point-to-surface Hausdorff distances per frame, and vertex RMSE, D_A and the KG error
-// when the vertex counts match. Formulas and conventions: docs/metrics.md.
+// when the vertex counts match. With ReferenceDataset and TestDataset instead: texture PSNR
+// (object and frame) between an original dataset and a decoded one (texture_metrics.h).
+// Formulas and conventions: docs/metrics.md.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +18,7 @@
 #include "common/obj_io.h"
 #include "common/progress.h"
 #include "common/sequence.h"
+#include "tools/metrics/texture_metrics.h"
 
 using namespace tdvo;
 
@@ -28,6 +31,7 @@ struct Params {
   int referenceFirstFrame = 0, testFirstFrame = 0, frameCount = 0, groupSize = 1;
   Correspondence correspondence = Correspondence::kIdentity;
   bool relative = false;
+  TextureMetricsParams texture;  // the texture mode's own keys (ReferenceDataset, ...)
 
   void registerOptions(OptionTable& t) {
     t.section("Reference");
@@ -57,6 +61,16 @@ struct Params {
     t.add("Relative", relative,
           "report distances divided by the diagonal of the reference bounding box (over all "
           "compared frames) instead of in OBJ units");
+    t.section("Textures (instead of meshes)");
+    t.add("ReferenceDataset", texture.referenceDataset,
+          "texture mode: the original dataset (folder or dataset.json) whose camera frames were "
+          "coded; frame indices are ReferenceFirstFrame + k");
+    t.add("TestDataset", texture.testDataset,
+          "texture mode: the decoded dataset written by 3dvo-dec -o (RGBA frames, alpha = the "
+          "decoded shape); frame indices are TestFirstFrame + k");
+    t.add("Bitstream", texture.bitstream,
+          "texture mode: the stream that was decoded; the frame PSNR is then taken over each "
+          "camera's texture box instead of the whole frame");
     t.section("Output");
     t.add("CsvFile", csvFile, "also write the per-frame and summary figures as CSV to this file");
   }
@@ -97,10 +111,27 @@ int main(int argc, char** argv) {
     Params p;
     OptionTable table("3dvo-metrics",
                       "3dvo-metrics -r REFERENCE -t TEST [--Key=value ...]\n"
+                      "  or   3dvo-metrics --ReferenceDataset=DIR --TestDataset=DECODED "
+                      "[--Bitstream=S.3dvo] [--Key=value ...]\n"
                       "  e.g. 3dvo-metrics -r seq/%04d.obj.gz --ReferenceFirstFrame=1 "
                       "-t out/%04d.obj --Correspondence=nearest --GroupSize=8 --CsvFile=m.csv");
     p.registerOptions(table);
     if (!table.parseCommandLine(argc, argv)) return 0;
+    if (!p.texture.referenceDataset.empty() || !p.texture.testDataset.empty()) {
+      check(p.referenceMeshes.empty() && p.testMeshes.empty(),
+            "give meshes (ReferenceMeshes, TestMeshes) or datasets (ReferenceDataset, "
+            "TestDataset), not both");
+      check(p.correspondence == Correspondence::kIdentity && p.groupSize == 1 && !p.relative,
+            "Correspondence, GroupSize and Relative are for meshes, not for texture metrics");
+      p.texture.referenceFirstFrame = p.referenceFirstFrame;
+      p.texture.testFirstFrame = p.testFirstFrame;
+      p.texture.frameCount = p.frameCount;
+      p.texture.csvFile = p.csvFile;
+      return runTextureMetrics(p.texture);
+    }
+    check(p.texture.bitstream.empty(),
+          "Bitstream is for texture metrics (with ReferenceDataset "
+          "and TestDataset)");
     check(!p.referenceMeshes.empty(), "no reference given (-r FILE or PATTERN; see --help)");
     check(!p.testMeshes.empty(), "no test meshes given (-t FILE or PATTERN; see --help)");
     const bool sequence = isPattern(p.referenceMeshes);

@@ -42,7 +42,7 @@ Dataset importNerf(const std::string& transformsFile) {
   Json root;
   try {
     root = Json::parse(bytes.begin(), bytes.end());
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {  // parse_error, and out_of_range for numbers like 1e999
     throw Error(transformsFile + ": invalid JSON: " + e.what());
   }
   check(root.is_object(), transformsFile + ": must be a JSON object");
@@ -68,8 +68,12 @@ Dataset importNerf(const std::string& transformsFile) {
     c.name = fs::path(file).stem().string();
     const std::string imagePath = d.resolve(dc.images);
     if (root.contains("w") && root.contains("h")) {
-      c.width = static_cast<int>(number(root, "w", transformsFile));
-      c.height = static_cast<int>(number(root, "h", transformsFile));
+      // Checked before the conversion to int, which is undefined for values beyond its range.
+      const double w = number(root, "w", transformsFile), h = number(root, "h", transformsFile);
+      check(w >= 1 && w <= 32767 && h >= 1 && h <= 32767,
+            transformsFile + ": \"w\" and \"h\" must be in [1, 32767]");
+      c.width = static_cast<int>(w);
+      c.height = static_cast<int>(h);
     } else {
       readPngSize(imagePath, c.width, c.height);
     }

@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
     table.section("Sample");
     table.add("OutputDir", outputDir, "folder for the OBJ frames", "-o");
     table.add("OutputMeshPattern", pattern, "file name of frame n (printf pattern, n from 0)");
-    table.add("Subdivisions", subdivisions, 0, 7,
+    table.add("Subdivisions", subdivisions, 0, 8,
               "icosphere subdivisions (10*4^s+2 vertices, 20*4^s triangles)");
     table.add("FrameCount", frameCount, 1, 100000, "number of frames (one loop of the motion)");
     if (!table.parseCommandLine(argc, argv)) return 0;

@@ -88,6 +88,7 @@ def main(argv=None):
     try:
         sweep = Sweep(args.sweep)
         results_dir = _results_dir(args, sweep)
+        sweep.use_results(results_dir)
         bin_dir = args.bin_dir or default_bin_dir()
         if args.command == "list":
             identity = Identity(bin_dir)

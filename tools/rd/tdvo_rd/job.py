@@ -1,5 +1,9 @@
 """One rate-distortion job: encode -> decode -> metrics, and its cached result.
 
+Two kinds (spec["kind"]): "geometry" measures the decoded meshes against the input OBJ frames;
+"texture" decodes the camera textures too and measures object PSNR against the dataset's camera
+frames, with the rate of the TEXTURE units (docs/rd.md, "Texture sweeps").
+
 This module is what runs on the workers. It uses the standard library only and nothing else of
 this package, because the Dask executor ships it to the workers by value (cloudpickle), so a
 worker needs Python and the 3dvo binaries on the shared filesystem, not this package.
@@ -11,8 +15,11 @@ to <results>/jobs/<key>.json; that file is the cache entry. A failed job is writ
 """
 
 import csv
+import glob
 import json
+import math
 import os
+import re
 import shutil
 import signal
 import socket
@@ -208,8 +215,121 @@ def _executor():
 
 
 def _number(text):
-    """A metrics CSV cell: float, or None for an empty (undefined) cell."""
-    return float(text) if text != "" else None
+    """A metrics CSV cell: float, or None for an empty (undefined) or infinite cell (JSON has no
+    infinity; the text keeps "inf")."""
+    if text == "":
+        return None
+    value = float(text)
+    return value if math.isfinite(value) else None
+
+
+def _geometry_stages(spec, workdir, timeout, config):
+    """Decode the meshes, compare them with the input OBJ frames; the result's own fields."""
+    binaries = spec["binaries"]
+    reference = spec["reference"]
+    decode_command = [binaries["3dvo-dec"], "-i", "stream.3dvo", "-o", "decoded",
+                      "--verify", "encode.out"]
+    decode_s = _run_stage("decode", decode_command, workdir, timeout)
+
+    # Decoded frames come in Draco's vertex order: match them to the reference once per GOM
+    # (docs/metrics.md, "Vertex correspondence").
+    group_size = config.get("GOMSize", "1")
+    metrics_command = [
+        binaries["3dvo-metrics"], "-r", reference["pattern"],
+        "--ReferenceFirstFrame=%d" % reference["first_frame"],
+        "-t", os.path.join("decoded", "%04d.obj"), "--TestFirstFrame=0",
+        "--FrameCount=%d" % reference["frame_count"],
+        "--Correspondence=nearest", "--GroupSize=" + group_size,
+        "--CsvFile=metrics.csv"]
+    metrics_s = _run_stage("metrics", metrics_command, workdir, timeout)
+    with open(os.path.join(workdir, "metrics.csv"), encoding="utf-8", newline="") as f:
+        rows = list(csv.DictReader(f))
+    frames = [row for row in rows if row["frame"] != "all"]
+    summary_row = next(row for row in rows if row["frame"] == "all")
+
+    stream_bytes = os.path.getsize(os.path.join(workdir, "stream.3dvo"))
+    frame_count = len(frames)
+    frame_rate = float(config["FrameRate"])
+    vertices = sum(int(row["reference_vertices"]) for row in frames)
+    bits = 8.0 * stream_bytes
+    metric_names = [name for name in summary_row
+                    if name not in ("frame", "reference_frame", "test_frame",
+                                    "reference_vertices", "test_vertices", "unit")]
+    return {
+        "frames": frame_count,
+        "vertices": vertices,
+        "bytes": stream_bytes,
+        "frame_rate": frame_rate,
+        # The same definitions as 3dvo-enc's summary (docs/user-guide.md), unrounded.
+        "kbit_s": bits / 1000.0 * frame_rate / frame_count,
+        "bits_per_vertex_frame": bits / vertices,
+        # Exactly as 3dvo-metrics printed them (10 significant digits) and as numbers.
+        "metrics_text": {name: summary_row[name] for name in metric_names},
+        "metrics": {name: _number(summary_row[name]) for name in metric_names},
+        "metrics_per_frame": [
+            {name: row[name] for name in row if name != "unit"} for row in frames],
+    }, decode_s, metrics_s
+
+
+# The encoder summary's byte split: "bytes : N (headers h, I meshes i, P meshes p, textures t)".
+_TEXTURE_BYTES = re.compile(r"\btextures (\d+)\)")
+
+
+def _texture_stages(spec, workdir, timeout, config, encoder_summary, encode_command):
+    """Decode meshes and textures (and the H.264 of each camera), compare the decoded camera
+    frames with the dataset's; the result's own fields."""
+    binaries = spec["binaries"]
+    reference = spec["reference"]
+    match = _TEXTURE_BYTES.search(encoder_summary.get("bytes", ""))
+    if not match:
+        raise _StageFailed({"stage": "encode", "command": encode_command, "returncode": 0,
+                            "error": "no texture bytes in the encoder summary (is Dataset "
+                            "set?)", "stderr_tail": encoder_summary.get("bytes", "")})
+    texture_bytes = int(match.group(1))
+    decode_command = [binaries["3dvo-dec"], "-i", "stream.3dvo", "-o", "decoded",
+                      "--verify", "encode.out", "--extract-textures", "h264"]
+    decode_s = _run_stage("decode", decode_command, workdir, timeout)
+    h264_bytes = sum(os.path.getsize(p)
+                     for p in glob.glob(os.path.join(workdir, "h264", "cam*.264")))
+
+    metrics_command = [
+        binaries["3dvo-metrics"], "--ReferenceDataset=" + reference["dataset"],
+        "--ReferenceFirstFrame=%d" % reference["first_frame"],
+        "--TestDataset=decoded", "--TestFirstFrame=0",
+        "--FrameCount=%d" % reference["frame_count"], "--Bitstream=stream.3dvo",
+        "--CsvFile=metrics.csv"]
+    metrics_s = _run_stage("metrics", metrics_command, workdir, timeout)
+    with open(os.path.join(workdir, "metrics.csv"), encoding="utf-8", newline="") as f:
+        rows = list(csv.DictReader(f))
+    pictures = [row for row in rows if row["frame"] != "all"]
+    summary_row = next(row for row in rows if row["frame"] == "all" and row["camera"] == "all")
+    cameras = len({row["camera"] for row in pictures})
+
+    stream_bytes = os.path.getsize(os.path.join(workdir, "stream.3dvo"))
+    frame_count = reference["frame_count"]
+    frame_rate = float(config["FrameRate"])
+    seconds = frame_count / frame_rate
+    metric_names = [name for name in summary_row
+                    if name not in ("frame", "reference_frame", "test_frame", "camera",
+                                    "frame_region")]
+    return {
+        "frames": frame_count,
+        "cameras": cameras,
+        "bytes": stream_bytes,
+        "texture_bytes": texture_bytes,
+        "h264_bytes": h264_bytes,
+        "frame_rate": frame_rate,
+        # The rate of the TEXTURE units, as 3dvo-enc's "texture kbit/s", unrounded; the H.264
+        # streams alone; the whole stream.
+        "kbit_s": 8.0 * texture_bytes / 1000.0 / seconds,
+        "h264_kbit_s": 8.0 * h264_bytes / 1000.0 / seconds,
+        "stream_kbit_s": 8.0 * stream_bytes / 1000.0 / seconds,
+        "frame_region": summary_row["frame_region"],
+        "metrics_text": {name: summary_row[name] for name in metric_names},
+        "metrics": {name: _number(summary_row[name]) for name in metric_names},
+        "metrics_per_frame": [
+            {name: row[name] for name in row if name != "frame_region"} for row in pictures],
+    }, decode_s, metrics_s
 
 
 def run_job(spec):
@@ -231,7 +351,6 @@ def run_job(spec):
     workdir = tempfile.mkdtemp(prefix="3dvo-rd-" + key[:12] + "-", dir=scratch)
     timeout = spec.get("timeout") or None
     binaries = spec["binaries"]
-    reference = spec["reference"]
     base = {"format": RESULT_FORMAT, "key": key, "job": spec["record"],
             "host": socket.gethostname(), "executor": _executor()}
     try:
@@ -246,49 +365,15 @@ def run_job(spec):
                                 "error": "no MD5 lines in the encoder output",
                                 "stderr_tail": encoder_text[-2000:]})
 
-        decode_command = [binaries["3dvo-dec"], "-i", "stream.3dvo", "-o", "decoded",
-                          "--verify", "encode.out"]
-        decode_s = _run_stage("decode", decode_command, workdir, timeout)
-
-        # Decoded frames come in Draco's vertex order: match them to the reference once per GOM
-        # (docs/metrics.md, "Vertex correspondence").
-        group_size = config.get("GOMSize", "1")
-        metrics_command = [
-            binaries["3dvo-metrics"], "-r", reference["pattern"],
-            "--ReferenceFirstFrame=%d" % reference["first_frame"],
-            "-t", os.path.join("decoded", "%04d.obj"), "--TestFirstFrame=0",
-            "--FrameCount=%d" % reference["frame_count"],
-            "--Correspondence=nearest", "--GroupSize=" + group_size,
-            "--CsvFile=metrics.csv"]
-        metrics_s = _run_stage("metrics", metrics_command, workdir, timeout)
-        with open(os.path.join(workdir, "metrics.csv"), encoding="utf-8", newline="") as f:
-            rows = list(csv.DictReader(f))
-        frames = [row for row in rows if row["frame"] != "all"]
-        summary_row = next(row for row in rows if row["frame"] == "all")
-
-        stream_bytes = os.path.getsize(os.path.join(workdir, "stream.3dvo"))
-        frame_count = len(frames)
-        frame_rate = float(config["FrameRate"])
-        vertices = sum(int(row["reference_vertices"]) for row in frames)
-        bits = 8.0 * stream_bytes
-        metric_names = [name for name in summary_row
-                        if name not in ("frame", "reference_frame", "test_frame",
-                                        "reference_vertices", "test_vertices", "unit")]
+        if spec.get("kind", "geometry") == "texture":
+            fields, decode_s, metrics_s = _texture_stages(spec, workdir, timeout, config,
+                                                          encoder_summary, encode_command)
+        else:
+            fields, decode_s, metrics_s = _geometry_stages(spec, workdir, timeout, config)
         result = dict(base)
+        result["status"] = "ok"
+        result.update(fields)
         result.update({
-            "status": "ok",
-            "frames": frame_count,
-            "vertices": vertices,
-            "bytes": stream_bytes,
-            "frame_rate": frame_rate,
-            # The same definitions as 3dvo-enc's summary (docs/user-guide.md), unrounded.
-            "kbit_s": bits / 1000.0 * frame_rate / frame_count,
-            "bits_per_vertex_frame": bits / vertices,
-            # Exactly as 3dvo-metrics printed them (10 significant digits) and as numbers.
-            "metrics_text": {name: summary_row[name] for name in metric_names},
-            "metrics": {name: _number(summary_row[name]) for name in metric_names},
-            "metrics_per_frame": [
-                {name: row[name] for name in row if name != "unit"} for row in frames],
             "encoder_config": config,
             "encoder_summary": encoder_summary,
             "md5": md5,

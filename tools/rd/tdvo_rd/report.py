@@ -10,6 +10,9 @@ redrawn (`3dvo-rd report`) without rerunning a job.
     distortion = ["D_A"]           # metrics for BD figures and plots (first = main)
     rate = "kbit_s"                # or "bits_per_vertex_frame": plot axis and BD rate
     method = "pchip"               # or "cubic" (bdrate.py)
+
+Texture sweeps have their own columns, distortions (object and frame PSNR) and rates
+(texture_report.py); the kind of the sweep ([sweep] kind) chooses.
 """
 
 import csv
@@ -18,6 +21,7 @@ import math
 import os
 
 from . import bdrate
+from . import texture_report
 from .sweep import SweepError
 
 # CSV columns, in order. Metric columns hold the text 3dvo-metrics printed (10 significant
@@ -44,9 +48,66 @@ DISTORTION_NAMES = {
 RATES = {"kbit_s": "kbit/s", "bits_per_vertex_frame": "bits/vertex/frame"}
 
 
+class GeometryKind:
+    """What a geometry sweep's CSV, BD tables, plots and page show (the texture counterpart is
+    texture_report.TextureKind)."""
+    columns = CSV_COLUMNS
+    distortion_names = DISTORTION_NAMES
+    default_distortion = ["D_A"]
+    rates = RATES
+    quality_text = "quality = 20·log10(diagonal / distortion) dB"
+
+    @staticmethod
+    def row_of(result):
+        return row_of(result)
+
+    @staticmethod
+    def quality(row, distortion):
+        return quality(row, distortion)
+
+    @staticmethod
+    def axis_label(distortion):
+        return "20·log10(%s / %s) [dB]" % (
+            "diagonal" if DISTORTIONS[distortion] == "diagonal" else "100 %",
+            DISTORTION_NAMES[distortion])
+
+    @staticmethod
+    def sequence_section(sweep, rows):
+        out = ["| sequence | input | frames | vertices/frame | frame rate |",
+               "|---|---|---|---|---|"]
+        for s in sweep.sequences:
+            vertices = next((int(r["vertices"]) // int(r["frames"]) for r in rows
+                             if r["sequence"] == s.name), None)
+            out.append("| %s | `%s` | %d from %d | %s | %g |" % (
+                s.name, os.path.relpath(s.pattern, sweep.root), s.frame_count, s.first_frame,
+                vertices if vertices is not None else "n/a", s.frame_rate))
+        return out
+
+    @staticmethod
+    def points_section(sequence, rows, labels):
+        out = ["| mode | setting | kbit/s | bits/vertex/frame | D_A | vertex RMSE | "
+               "Hausdorff max | Hausdorff mean | KG % |",
+               "|---|---|---|---|---|---|---|---|---|"]
+        for r in rows:
+            if r["sequence"] != sequence.name:
+                continue
+            out.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+                labels[r["mode"]], r["setting"], _fmt(r["kbit_s"], 6),
+                _fmt(r["bits_per_vertex_frame"]), _fmt(r["D_A"]), _fmt(r["vertex_rmse"]),
+                _fmt(r["hausdorff_max"]), _fmt(r["hausdorff_mean"]), _fmt(r["kg_error"])))
+        out.append("")
+        diagonal = next((r["diagonal"] for r in rows if r["sequence"] == sequence.name), "")
+        out += ["Distances in OBJ units; reference bounding-box diagonal %s." % _fmt(diagonal, 6)]
+        return out
+
+
+KINDS = {"geometry": GeometryKind, "texture": texture_report.TextureKind}
+
+
 class ReportOptions:
     def __init__(self, sweep):
         table = sweep.report_table()
+        self.kind = KINDS[sweep.kind]
         mode_names = [m.name for m in sweep.modes]
         self.title = table.get("title", str, "Rate-distortion results: " + sweep.name)
         self.description = table.get("description", str, "")
@@ -54,13 +115,14 @@ class ReportOptions:
         for a in self.anchors:
             if a not in mode_names:
                 table._fail("anchors: no mode named '%s'" % a)
-        self.distortion = table.get("distortion", list, ["D_A"])
+        names = self.kind.distortion_names
+        self.distortion = table.get("distortion", list, self.kind.default_distortion)
         for d in self.distortion:
-            if d not in DISTORTIONS:
-                table._fail("distortion: '%s' is not one of %s" % (d, ", ".join(DISTORTIONS)))
+            if d not in names:
+                table._fail("distortion: '%s' is not one of %s" % (d, ", ".join(names)))
         self.rate = table.get("rate", str, "kbit_s")
-        if self.rate not in RATES:
-            table._fail("rate must be one of %s" % ", ".join(RATES))
+        if self.rate not in self.kind.rates:
+            table._fail("rate must be one of %s" % ", ".join(self.kind.rates))
         self.method = table.get("method", str, "pchip")
         if self.method not in bdrate.METHODS:
             table._fail("method must be one of %s" % ", ".join(bdrate.METHODS))
@@ -87,9 +149,9 @@ def row_of(result):
     return row
 
 
-def csv_text(rows):
+def csv_text(rows, columns=CSV_COLUMNS):
     out = io.StringIO()
-    writer = csv.DictWriter(out, fieldnames=CSV_COLUMNS, lineterminator="\n")
+    writer = csv.DictWriter(out, fieldnames=columns, lineterminator="\n")
     writer.writeheader()
     for row in rows:
         writer.writerow(row)
@@ -120,7 +182,7 @@ def curves(rows, options, distortion):
     """{sequence: {mode: [(rate, quality), ...]}} in sweep order, points with a finite quality."""
     out = {}
     for row in rows:
-        q = quality(row, distortion)
+        q = options.kind.quality(row, distortion)
         if q is None or math.isinf(q):
             continue
         out.setdefault(row["sequence"], {}).setdefault(row["mode"], []).append(
@@ -209,11 +271,9 @@ def plot(rows, options, labels, distortion, sequence, stem):
     axes.xaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 3.0, 5.0, 7.0)))
     axes.xaxis.set_major_formatter(FuncFormatter(lambda value, _: "%g" % value))
     axes.xaxis.set_minor_formatter(NullFormatter())
-    axes.set_xlabel("rate [%s]" % RATES[options.rate])
-    axes.set_ylabel("20·log10(%s / %s) [dB]" % (
-        "diagonal" if DISTORTIONS[distortion] == "diagonal" else "100 %",
-        DISTORTION_NAMES[distortion]))
-    axes.set_title("%s: %s" % (sequence, DISTORTION_NAMES[distortion]))
+    axes.set_xlabel("rate [%s]" % options.kind.rates[options.rate])
+    axes.set_ylabel(options.kind.axis_label(distortion))
+    axes.set_title("%s: %s" % (sequence, options.kind.distortion_names[distortion]))
     axes.grid(True, which="both", alpha=0.3)
     axes.legend()
     figure.tight_layout()
@@ -240,14 +300,9 @@ def markdown_page(sweep, options, rows, table, binary_hashes, files_dir_name, co
             "All rows: [%s/rd.csv](%s/rd.csv); BD figures: [%s/bd.csv](%s/bd.csv)." %
             ((files_dir_name,) * 4), ""]
 
-    out += ["## Sequences", "", "| sequence | input | frames | vertices/frame | frame rate |",
-            "|---|---|---|---|---|"]
-    for s in sweep.sequences:
-        vertices = next((int(r["vertices"]) // int(r["frames"]) for r in rows
-                         if r["sequence"] == s.name), None)
-        out.append("| %s | `%s` | %d from %d | %s | %g |" % (
-            s.name, os.path.relpath(s.pattern, sweep.root), s.frame_count, s.first_frame,
-            vertices if vertices is not None else "n/a", s.frame_rate))
+    kind = options.kind
+    names = kind.distortion_names
+    out += ["## Sequences", ""] + kind.sequence_section(sweep, rows)
     out += ["", "## Coding modes", "", "| mode | cfg | fixed keys | rate points |",
             "|---|---|---|---|"]
     for m in sweep.modes:
@@ -258,16 +313,16 @@ def markdown_page(sweep, options, rows, table, binary_hashes, files_dir_name, co
 
     out += ["", "## BD-rate", "",
             "Bjøntegaard delta rate of each mode against each anchor (negative: less rate at "
-            "equal distortion) and delta quality (positive: better), %s interpolation, quality "
-            "= 20·log10(diagonal / distortion) dB; definitions in [rd.md](rd.md#bd-rate)." %
-            options.method.upper(), ""]
+            "equal distortion) and delta quality (positive: better), %s interpolation, %s; "
+            "definitions in [rd.md](rd.md#bd-rate)." % (options.method.upper(),
+                                                        kind.quality_text), ""]
     for distortion in options.distortion:
         for anchor in options.anchors:
             entries = [e for e in table if e["distortion"] == distortion and
                        e["anchor"] == anchor]
             if not entries:
                 continue
-            out += ["### %s, against %s" % (DISTORTION_NAMES[distortion], labels[anchor]), "",
+            out += ["### %s, against %s" % (names[distortion], labels[anchor]), "",
                     "| sequence | mode | BD-rate | BD-quality | note |", "|---|---|---|---|---|"]
             for e in entries:
                 out.append("| %s | %s | %s | %s | %s |" % (
@@ -280,21 +335,8 @@ def markdown_page(sweep, options, rows, table, binary_hashes, files_dir_name, co
         out += ["## " + s.name, ""]
         for distortion in options.distortion:
             stem = "%s/%s-%s" % (files_dir_name, s.name, distortion)
-            out += ["![%s, %s](%s.svg)" % (s.name, DISTORTION_NAMES[distortion], stem), ""]
-        out += ["| mode | setting | kbit/s | bits/vertex/frame | D_A | vertex RMSE | "
-                "Hausdorff max | Hausdorff mean | KG % |",
-                "|---|---|---|---|---|---|---|---|---|"]
-        for r in rows:
-            if r["sequence"] != s.name:
-                continue
-            out.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
-                labels[r["mode"]], r["setting"], _fmt(r["kbit_s"], 6),
-                _fmt(r["bits_per_vertex_frame"]), _fmt(r["D_A"]), _fmt(r["vertex_rmse"]),
-                _fmt(r["hausdorff_max"]), _fmt(r["hausdorff_mean"]), _fmt(r["kg_error"])))
-        out.append("")
-        diagonal = next((r["diagonal"] for r in rows if r["sequence"] == s.name), "")
-        out += ["Distances in OBJ units; reference bounding-box diagonal %s." % _fmt(diagonal, 6),
-                ""]
+            out += ["![%s, %s](%s.svg)" % (s.name, names[distortion], stem), ""]
+        out += kind.points_section(s, rows, labels) + [""]
 
     out += ["## Binaries", "", "SHA-256 of the programs that made these results (part of every "
             "job's cache key):", ""]
@@ -310,9 +352,9 @@ def write_outputs(sweep, results, binary_hashes, results_dir, page=None, command
 
     `results` is aligned with sweep.jobs(); None entries (missing or failed jobs) are left out."""
     options = ReportOptions(sweep)
-    rows = [row_of(r) for r in results if r is not None]
+    rows = [options.kind.row_of(r) for r in results if r is not None]
     table = bd_table(rows, options, [m.name for m in sweep.modes])
-    rd_csv, bd_csv = csv_text(rows), bd_csv_text(table)
+    rd_csv, bd_csv = csv_text(rows, options.kind.columns), bd_csv_text(table)
     write_text_atomic(os.path.join(results_dir, "rd.csv"), rd_csv)
     write_text_atomic(os.path.join(results_dir, "bd.csv"), bd_csv)
     if page is None:

@@ -18,7 +18,7 @@ import sys
 import traceback
 
 from . import job as job_module
-from .sweep import Identity, make_spec
+from .sweep import Identity, make_spec, prepare_datasets
 
 # Task retries on Dask for exceptions raised by run_job itself (e.g. an I/O error of the shared
 # filesystem). A failing 3dvo command is not an exception (run_job returns a failure record) and
@@ -136,13 +136,15 @@ def _run_dask(pending, scheduler, on_result):
 
 def run_sweep(sweep, bin_dir, results_dir, scheduler=None, jobs=None, force=False, timeout=None,
               scratch_dir=None, log=None):
-    """Runs every job of the sweep that has no cached result (all of them with force).
+    """Runs every job of the sweep that has no cached result (all of them with force), after
+    making the datasets of texture sequences that have prepare commands and no dataset yet.
 
     Returns (summary, results) with results[i] the result dict of job i, or None when it failed
     or did not run. Failures are printed to `log` (stderr) with their command and stderr tail as
     they happen; the sweep goes on."""
     log = log or sys.stderr
     identity = Identity(bin_dir)
+    prepare_datasets(sweep, bin_dir, log)   # texture sequences made by commands, when missing
     all_jobs = sweep.jobs()
     keys = [identity.key(j) for j in all_jobs]
     timeout = timeout if timeout is not None else sweep.timeout

@@ -30,6 +30,18 @@ sequence x mode x setting is one job. The format is documented in docs/rd.md; in
     [report]                                 # optional, see report.py
     anchors = ["intra"]
 
+Texture sweeps (`kind = "texture"` in [sweep]) code camera videos: each sequence is a dataset
+(docs/dataset.md) instead of a mesh pattern, optionally made by `prepare` commands when it does
+not exist yet, and each job measures object PSNR (job.py):
+
+    [[sequence]]
+    name = "rig"
+    dataset = "{results}/data/rig"           # folder holding dataset.json; {results}: the
+                                             # results folder (derived data beside the cache)
+    prepare = [["{bin}/3dvo-synth", "-o", "{dataset}", "--FrameCount=25"]]   # optional
+    frame_count = 25
+    pattern = "meshes/%04d.obj"              # optional: InputMeshPattern (default: the dataset's)
+
 The encoder configuration of a job is the merge, later wins, of: [sweep].cfg, the sequence's cfg
 and set, the mode's cfg and set, the setting, and last the sequence's input keys
 (InputMeshPattern, FirstFrame, FrameCount, FrameRate). cfg files are read here with 3dvo-enc's
@@ -45,9 +57,14 @@ import tomllib
 
 # Keys the runner sets itself or that name files written by the encoder.
 _RESERVED_KEYS = ("BitstreamFile", "ReconMeshPattern")
-_INPUT_KEYS = ("InputMeshPattern", "FirstFrame", "FrameCount", "FrameRate")
+_INPUT_KEYS = ("InputMeshPattern", "Dataset", "FirstFrame", "FrameCount", "FrameRate")
 KEY_FORMAT = "3dvo-rd key 1"
 BINARIES = ("3dvo-enc", "3dvo-dec", "3dvo-metrics")
+KINDS = ("geometry", "texture")
+# Placeholders of prepare commands (see prepare_datasets).
+_PREPARE_FIELDS = ("bin", "root", "dataset", "work", "python")
+# The dataset fields that name files (docs/dataset.md); the rest is calibration.
+_DATASET_FILE_FIELDS = ("images", "video", "masks", "background", "backgroundVideo")
 
 
 class SweepError(Exception):
@@ -95,21 +112,30 @@ def frame_path(pattern, number):
 
 
 class Sequence:
-    def __init__(self, name, pattern, first_frame, frame_count, frame_rate, cfg, overrides):
+    def __init__(self, name, pattern, first_frame, frame_count, frame_rate, cfg, overrides,
+                 kind="geometry", dataset=None, prepare=None):
         self.name = name
-        self.pattern = pattern
+        self.pattern = pattern          # geometry: the OBJ frames; texture: optional mesh input
         self.first_frame = first_frame
         self.frame_count = frame_count
         self.frame_rate = frame_rate
         self.cfg = cfg
         self.overrides = overrides
+        self.kind = kind
+        self.dataset = dataset          # texture: the dataset folder (see Sweep.use_results)
+        self.dataset_text = dataset     # as written in the sweep file
+        self.prepare = prepare or []    # texture: commands (argv lists) that make the dataset
 
     def frame_paths(self):
         return [frame_path(self.pattern, self.first_frame + k) for k in range(self.frame_count)]
 
     def input_keys(self):
-        return [("InputMeshPattern", self.pattern), ("FirstFrame", str(self.first_frame)),
-                ("FrameCount", str(self.frame_count)), ("FrameRate", cfg_value(self.frame_rate))]
+        keys = [("InputMeshPattern", self.pattern)] if self.pattern else []
+        if self.kind == "texture":
+            keys.append(("Dataset", self.dataset))
+        return keys + [("FirstFrame", str(self.first_frame)),
+                       ("FrameCount", str(self.frame_count)),
+                       ("FrameRate", cfg_value(self.frame_rate))]
 
 
 class Mode:
@@ -138,7 +164,7 @@ class Job:
 
     def record(self):
         """What a result and a CSV row say about the job."""
-        return {"sequence": self.sequence.name, "mode": self.mode.name,
+        return {"kind": self.sequence.kind, "sequence": self.sequence.name, "mode": self.mode.name,
                 "mode_label": self.mode.label, "point": self.point,
                 "setting": dict(self.setting), "setting_label": self.setting_label,
                 "config": dict(self.config)}
@@ -199,6 +225,9 @@ class Sweep:
         results = head.get("results", str)
         self.results = self.resolve(results) if results else None
         self.timeout = head.get("timeout", float, 0.0) or None
+        self.kind = head.get("kind", str, "geometry")
+        if self.kind not in KINDS:
+            head._fail("kind must be one of %s" % ", ".join(KINDS))
         head.finish()
 
         self.sequences = []
@@ -206,14 +235,29 @@ class Sweep:
             t = _Table(path, "[[sequence]] %d" % (i + 1), table)
             name = t.get("name", str, required=True)
             t.where = "[[sequence]] '%s'" % name
+            texture = self.kind == "texture"
+            dataset = t.get("dataset", str)
+            prepare = t.get("prepare", list, [])
+            if not texture and (dataset is not None or prepare):
+                t._fail("'dataset' and 'prepare' are for texture sweeps ([sweep] kind = "
+                        "\"texture\")")
+            dataset = t.get("dataset", str, required=texture)
+            pattern = t.get("pattern", str, required=not texture)
+            for command in prepare:
+                if (not isinstance(command, list) or not command or
+                        not all(isinstance(a, str) for a in command)):
+                    t._fail("prepare must be an array of commands, each an array of strings")
             sequence = Sequence(
-                name, self.resolve(t.get("pattern", str, required=True)),
+                name, self.resolve(pattern) if pattern else None,
                 t.get("first_frame", int, 0), t.get("frame_count", int, required=True),
                 t.get("frame_rate", float, 25.0), self._paths(t, "cfg"),
-                self._overrides(t, "set"))
+                self._overrides(t, "set"), self.kind,
+                self._dataset_path(dataset) if dataset else None, prepare)
+            sequence.dataset_text = dataset
             if sequence.frame_count < 1:
                 t._fail("frame_count must be at least 1")
-            if sequence.pattern.count("%") - 2 * sequence.pattern.count("%%") != 1:
+            if (sequence.pattern is not None and
+                    sequence.pattern.count("%") - 2 * sequence.pattern.count("%%") != 1):
                 t._fail("pattern must hold one %d-style frame number conversion")
             t.finish()
             self.sequences.append(sequence)
@@ -252,6 +296,21 @@ class Sweep:
     def resolve(self, path):
         return os.path.normpath(os.path.join(self.root, path))
 
+    _RESULTS = "{results}"
+
+    def _dataset_path(self, path):
+        """A dataset folder: relative to the root, or under the results folder when it starts
+        with {results}/ (filled in by use_results, once the results folder is known)."""
+        return path if path.startswith(self._RESULTS) else self.resolve(path)
+
+    def use_results(self, results_dir):
+        """Places the {results}/... datasets in `results_dir` (the --results folder)."""
+        for sequence in self.sequences:
+            if sequence.dataset and sequence.dataset_text.startswith(self._RESULTS):
+                rest = sequence.dataset_text[len(self._RESULTS):].lstrip("/")
+                sequence.dataset = os.path.normpath(os.path.join(os.path.abspath(results_dir),
+                                                                 rest))
+
     def _paths(self, table, key):
         paths = table.get(key, list, [])
         for p in paths:
@@ -289,6 +348,10 @@ class Sweep:
 
         jobs = []
         for sequence in self.sequences:
+            if sequence.dataset and sequence.dataset.startswith(self._RESULTS):
+                raise SweepError("%s: sequence '%s': dataset %s needs the results folder "
+                                 "(Sweep.use_results)" % (self.path, sequence.name,
+                                                          sequence.dataset))
             for mode in self.modes:
                 if mode.sequences is not None and sequence.name not in mode.sequences:
                     continue
@@ -331,6 +394,10 @@ class Identity:
         self._inputs = {}
 
     def input_hashes(self, sequence):
+        if sequence.kind == "texture":
+            if sequence.name not in self._inputs:
+                self._inputs[sequence.name] = dataset_input_hashes(sequence)
+            return self._inputs[sequence.name]
         if sequence.name not in self._inputs:
             hashes = []
             for path in sequence.frame_paths():
@@ -346,7 +413,7 @@ class Identity:
         """The cache key: sha256 of the binaries' contents, the merged encoder configuration (less
         the input path, which the input frames' content hashes replace) and the metrics options.
         Moving the data or the binaries keeps the key; changing a byte of either changes it."""
-        config = {k: v for k, v in job.config.items() if k != "InputMeshPattern"}
+        config = {k: v for k, v in job.config.items() if k not in ("InputMeshPattern", "Dataset")}
         material = {
             "format": KEY_FORMAT,
             "binaries": self.binary_hashes,
@@ -354,13 +421,25 @@ class Identity:
             "inputs": self.input_hashes(job.sequence),
             "metrics": {"Correspondence": "nearest", "GroupSize": "GOMSize"},
         }
+        if job.sequence.kind == "texture":
+            # Object PSNR of the decoded dataset, frame PSNR over the texture boxes (job.py).
+            material["kind"] = "texture"
+            material["metrics"] = {"texture": "object and box PSNR", "version": 1}
         text = json.dumps(material, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
 def make_spec(job, identity, key, results_dir, timeout=None, scratch_dir=None, force=False):
     """The plain-dict job description that job.run_job takes."""
+    sequence = job.sequence
+    if sequence.kind == "texture":
+        reference = {"dataset": sequence.dataset, "first_frame": sequence.first_frame,
+                     "frame_count": sequence.frame_count}
+    else:
+        reference = {"pattern": sequence.pattern, "first_frame": sequence.first_frame,
+                     "frame_count": sequence.frame_count}
     return {
+        "kind": sequence.kind,
         "key": key,
         "results_dir": os.path.abspath(results_dir),
         "scratch_dir": scratch_dir,
@@ -368,7 +447,120 @@ def make_spec(job, identity, key, results_dir, timeout=None, scratch_dir=None, f
         "force": force,
         "binaries": identity.binaries,
         "encoder_args": ["--%s=%s" % kv for kv in job.config.items()],
-        "reference": {"pattern": job.sequence.pattern, "first_frame": job.sequence.first_frame,
-                      "frame_count": job.sequence.frame_count},
+        "reference": reference,
         "record": job.record(),
     }
+
+
+def _dataset_path(folder, path, number):
+    """A dataset file name (pattern with one frame conversion, or a still) made absolute, as
+    Dataset::framePath (docs/dataset.md)."""
+    if "%" in path.replace("%%", ""):
+        path = path % number
+    else:
+        path = path.replace("%%", "%")
+    return os.path.normpath(os.path.join(folder, path))
+
+
+def dataset_input_hashes(sequence):
+    """What a texture job reads, by content: the dataset's calibration (dataset.json without its
+    file names) and the SHA-256 of every file the encoder and the metrics read for the coded
+    frames (each camera's images or its video, and the meshes, or the sequence's pattern)."""
+    name = os.path.join(sequence.dataset, "dataset.json")
+    try:
+        with open(name, encoding="utf-8") as f:
+            dataset = json.load(f)
+    except OSError as e:
+        raise SweepError("sequence '%s': cannot read %s (%s)%s" % (
+            sequence.name, name, e.strerror,
+            "; `3dvo-rd run` makes it with the sequence's prepare commands"
+            if sequence.prepare else "")) from None
+    except ValueError as e:
+        raise SweepError("sequence '%s': %s: %s" % (sequence.name, name, e)) from None
+    frames = dataset.get("frames", {})
+    first = frames.get("first", 0)
+    numbers = [first + sequence.first_frame + k for k in range(sequence.frame_count)]
+    files = []
+    for camera in dataset.get("cameras", []):
+        if "video" in camera:
+            files.append(_dataset_path(sequence.dataset, camera["video"], 0))
+        elif "images" in camera:
+            files += [_dataset_path(sequence.dataset, camera["images"], n) for n in numbers]
+    if sequence.pattern:
+        files += sequence.frame_paths()
+    elif "meshes" in dataset:
+        files += [_dataset_path(sequence.dataset, dataset["meshes"], n) for n in numbers]
+    calibration = dict(dataset)
+    calibration.pop("description", None)
+    calibration.pop("meshes", None)
+    calibration["cameras"] = [{k: v for k, v in c.items() if k not in _DATASET_FILE_FIELDS}
+                              for c in dataset.get("cameras", [])]
+    hashes = [hashlib.sha256(json.dumps(calibration, sort_keys=True).encode()).hexdigest()]
+    digests = {}
+    for path in files:
+        if path not in digests:
+            try:
+                digests[path] = sha256_file(path)
+            except OSError as e:
+                raise SweepError("sequence '%s': cannot read %s (%s)"
+                                 % (sequence.name, path, e.strerror)) from None
+        hashes.append(digests[path])
+    return hashes
+
+
+def prepare_datasets(sweep, bin_dir, log):
+    """Runs the prepare commands of each texture sequence whose dataset.json does not exist.
+
+    The commands run in order in the sweep's root with these placeholders filled: {bin} the
+    apps' folder, {root} the sweep root, {python} this Python, {dataset} a new folder beside the
+    dataset's that becomes the dataset when every command succeeded (renamed; a failure leaves
+    nothing), {work} a temporary folder removed afterwards. Returns the names prepared."""
+    import shutil
+    import subprocess
+    import sys
+    import tempfile
+
+    prepared = []
+    for sequence in sweep.sequences:
+        if not sequence.prepare or os.path.exists(os.path.join(sequence.dataset,
+                                                               "dataset.json")):
+            continue
+        if os.path.exists(sequence.dataset):
+            raise SweepError("sequence '%s': %s exists but holds no dataset.json; remove it "
+                             "to let the prepare commands make it" % (sequence.name,
+                                                                      sequence.dataset))
+        parent = os.path.dirname(sequence.dataset)
+        os.makedirs(parent, exist_ok=True)
+        staging = tempfile.mkdtemp(prefix=".prepare-", dir=parent)
+        work = tempfile.mkdtemp(prefix="3dvo-rd-prepare-")
+        fields = {"bin": os.path.abspath(bin_dir), "root": sweep.root, "dataset": staging,
+                  "work": work, "python": sys.executable}
+        try:
+            for command in sequence.prepare:
+                try:
+                    argv = [a.format(**fields) for a in command]
+                except (KeyError, IndexError, ValueError) as e:
+                    raise SweepError("sequence '%s': prepare command %s: unknown placeholder "
+                                     "%s (known: %s)" % (sequence.name, command, e,
+                                                         ", ".join(_PREPARE_FIELDS))) from None
+                print("3dvo-rd: preparing %s: %s" % (sequence.name, " ".join(argv)), file=log)
+                try:
+                    done = subprocess.run(argv, cwd=sweep.root, stdin=subprocess.DEVNULL,
+                                          stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                          text=True)
+                except OSError as e:
+                    raise SweepError("sequence '%s': prepare command %s: %s"
+                                     % (sequence.name, argv[0], e.strerror)) from None
+                if done.returncode != 0:
+                    tail = "\n".join((done.stderr or done.stdout).splitlines()[-20:])
+                    raise SweepError("sequence '%s': prepare command failed (exit %d): %s\n%s"
+                                     % (sequence.name, done.returncode, " ".join(argv), tail))
+            if not os.path.exists(os.path.join(staging, "dataset.json")):
+                raise SweepError("sequence '%s': the prepare commands wrote no dataset.json "
+                                 "into {dataset}" % sequence.name)
+            os.replace(staging, sequence.dataset)
+            prepared.append(sequence.name)
+        finally:
+            shutil.rmtree(work, ignore_errors=True)
+            shutil.rmtree(staging, ignore_errors=True)
+    return prepared

@@ -1,0 +1,311 @@
+// Speed of geometry coding on a shared sequence (bench_sequences.h says which one ran):
+//
+//   PMeshDecode/<condition>/<seq>   decoding every P mesh of the sequence, chained frame after
+//                                   frame from the decoded I mesh (one GOM over all frames);
+//                                   items_per_second = vertex-frames/s (issue 10 target:
+//                                   >= 20 M for d3dmc on one core)
+//   PMeshEncode/<condition>/<seq>   the encoder's RD search and CABAC writing for the same
+//                                   P meshes (encodePMesh; no closed-loop check)
+//   GomTopologyBuild/<seq>          the per-GOM connectivity tables (rings, wings, BFS order)
+//   IMeshEncode/<seq>, IMeshDecode  frame 0 as an I mesh (Draco, DracoSpeed 0, lossless on the
+//                                   12-bit grid); IMeshEncode includes the encoder's own decode
+//                                   and vertex-order recovery; items = vertices
+//   StreamDecode/<condition>/<seq>  a whole stream (GOMSize of cfg/per-sequence) through
+//                                   StreamDecoder: I meshes, P meshes, interpolation;
+//                                   items_per_second = frames/s; ...Md5 adds the per-frame MD5
+//                                   that 3dvo-dec prints
+//   StreamEncode/<condition>/<seq>/threads:<n>  encodeSequence with Threads = n (frames/s)
+//
+// Conditions: d3dmc-lossless (MotionQuantStep 1, Lambda 0), d3dmc-lossy (MotionQuantStep 8,
+// automatic Lambda), afxic (AFX-IC-style reference, MotionQuantStep 1). GridBits 12.
+//
+//   build/bin/pmesh_bench --benchmark_filter=PMeshDecode
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench/bench_sequences.h"
+#include "common/md5.h"
+#include "decoder/imesh_decoder.h"
+#include "decoder/pmesh_decoder.h"
+#include "decoder/stream_decoder.h"
+#include "encoder/imesh_encoder.h"
+#include "encoder/pmesh_encoder.h"
+#include "encoder/sequence_encoder.h"
+
+using namespace tdvo;
+using tdvo::bench::BenchSequence;
+
+namespace {
+
+constexpr int kGridBits = 12;
+
+struct Condition {
+  const char* name;
+  PMeshMode mode;
+  int quantStep;
+  double lambda;  // -1: automatic
+};
+const Condition kConditions[] = {
+    {"d3dmc-lossless", PMeshMode::kD3dmc, 1, 0},
+    {"d3dmc-lossy", PMeshMode::kD3dmc, 8, -1},
+    {"afxic", PMeshMode::kAfxic, 1, 0},
+};
+
+EncoderParams encoderParams(const Condition& c, const BenchSequence& s) {
+  EncoderParams p;
+  p.gridBits = kGridBits;
+  p.gomSize = s.gomSize;
+  p.pmeshMode = c.mode;
+  p.motionQuantStep = c.quantStep;
+  p.lambda = c.lambda;
+  return p;
+}
+
+// A sequence quantised, its frame 0 coded as an I mesh, and the other frames as targets in the
+// I mesh's (decoded) vertex order. Built once per sequence, on first use.
+struct Gom {
+  std::vector<Mesh> frames;
+  Grid grid;
+  IMeshEncoding iMesh;
+  GomTopology topology;
+  std::vector<std::vector<Vec3i>> targets;  // frame f in GOM order; [0] is the decoded I mesh
+  uint64_t vertices() const { return topology.numVertices; }
+};
+
+const Gom& gomOf(const BenchSequence& s) {
+  static std::map<std::string, std::unique_ptr<Gom>> cache;
+  std::unique_ptr<Gom>& g = cache[s.name];
+  if (g) return *g;
+  g = std::make_unique<Gom>();
+  g->frames = bench::loadFrames(s);
+  g->grid = gridForSequence(g->frames, kGridBits);
+  const IntMesh first = g->grid.quantise(g->frames[0]);
+  g->iMesh = encodeIMesh(first, kGridBits, 0);
+  g->topology = GomTopology::build(g->iMesh.decoded);
+  g->targets.push_back(g->iMesh.decoded.positions);
+  for (size_t f = 1; f < g->frames.size(); ++f) {
+    const IntMesh q = g->grid.quantise(g->frames[f]);
+    std::vector<Vec3i> t(g->iMesh.inputIndex.size());
+    for (size_t j = 0; j < t.size(); ++j)
+      t[j] = q.positions[g->iMesh.inputIndex[j]];
+    g->targets.push_back(std::move(t));
+  }
+  return *g;
+}
+
+PMeshParams pmeshParams(const Condition& c) {
+  PMeshParams p;
+  p.gridBits = kGridBits;
+  p.quantStep = c.quantStep;
+  p.maxDepth = kGridBits;
+  return p;
+}
+
+double lambdaOf(const Condition& c) {
+  EncoderParams p;
+  p.motionQuantStep = c.quantStep;
+  p.lambda = c.lambda;
+  return p.effectiveLambda();
+}
+
+// The P meshes of a sequence under a condition (closed loop), coded once on first use.
+struct Coded {
+  std::vector<std::vector<uint8_t>> payloads;  // [f] codes frame f from frame f - 1 (f >= 1)
+  std::vector<std::vector<Vec3i>> previous;    // [f] the decoded frame f - 1
+  uint64_t bins = 0;                           // CABAC bins of all payloads
+};
+
+const Coded& codedOf(const BenchSequence& s, const Condition& c) {
+  static std::map<std::string, std::unique_ptr<Coded>> cache;
+  std::unique_ptr<Coded>& coded = cache[s.name + "/" + c.name];
+  if (coded) return *coded;
+  coded = std::make_unique<Coded>();
+  const Gom& g = gomOf(s);
+  const PMeshParams params = pmeshParams(c);
+  std::vector<Vec3i> previous = g.targets[0];
+  coded->payloads.emplace_back();
+  coded->previous.emplace_back();
+  for (size_t f = 1; f < g.targets.size(); ++f) {
+    PMeshEncoding e = c.mode == PMeshMode::kD3dmc
+                          ? encodePMesh(g.topology, previous, g.targets[f], params, lambdaOf(c))
+                          : encodeTemporalDpcm(previous, g.targets[f], params);
+    coded->payloads.push_back(std::move(e.payload));
+    coded->bins += e.bins;
+    coded->previous.push_back(previous);
+    previous = std::move(e.reconstruction);
+  }
+  return *coded;
+}
+
+void pmeshDecode(benchmark::State& state, const BenchSequence& s, const Condition& c) {
+  const Gom& g = gomOf(s);
+  const Coded& coded = codedOf(s, c);
+  const PMeshParams params = pmeshParams(c);
+  const std::string context = "bench";
+  PMeshWorkspace work;
+  std::vector<Vec3i> previous, current;
+  uint64_t bytes = 0;
+  for (const auto& p : coded.payloads)
+    bytes += p.size();
+  for (auto _ : state) {
+    previous = g.targets[0];
+    for (size_t f = 1; f < coded.payloads.size(); ++f) {
+      const std::vector<uint8_t>& p = coded.payloads[f];
+      if (c.mode == PMeshMode::kD3dmc)
+        decodePMesh(p.data(), p.size(), g.topology, previous, params, context, work, current);
+      else
+        decodeTemporalDpcm(p.data(), p.size(), previous, params, context, current);
+      previous.swap(current);
+    }
+    benchmark::DoNotOptimize(previous.data());
+  }
+  const int64_t vertexFrames = int64_t(g.vertices()) * int64_t(coded.payloads.size() - 1);
+  state.SetItemsProcessed(int64_t(state.iterations()) * vertexFrames);
+  state.counters["bits/vertex"] = 8.0 * double(bytes) / double(vertexFrames);
+  state.counters["bins/vertex"] = double(coded.bins) / double(vertexFrames);
+  state.counters["bins/s"] = benchmark::Counter(double(coded.bins) * double(state.iterations()),
+                                                benchmark::Counter::kIsRate);
+  state.SetLabel("vertex-frames/s");
+}
+
+void pmeshEncode(benchmark::State& state, const BenchSequence& s, const Condition& c) {
+  const Gom& g = gomOf(s);
+  const Coded& coded = codedOf(s, c);
+  const PMeshParams params = pmeshParams(c);
+  const double lambda = lambdaOf(c);
+  for (auto _ : state)
+    for (size_t f = 1; f < coded.payloads.size(); ++f) {
+      PMeshEncoding e =
+          c.mode == PMeshMode::kD3dmc
+              ? encodePMesh(g.topology, coded.previous[f], g.targets[f], params, lambda)
+              : encodeTemporalDpcm(coded.previous[f], g.targets[f], params);
+      benchmark::DoNotOptimize(e.payload.data());
+    }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(g.vertices()) *
+                          int64_t(coded.payloads.size() - 1));
+  state.SetLabel("vertex-frames/s");
+}
+
+void topologyBuild(benchmark::State& state, const BenchSequence& s) {
+  const Gom& g = gomOf(s);
+  for (auto _ : state) {
+    GomTopology t = GomTopology::build(g.iMesh.decoded);
+    benchmark::DoNotOptimize(t.order.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(g.vertices()));
+  state.SetLabel("vertices/s");
+}
+
+void iMeshEncode(benchmark::State& state, const BenchSequence& s) {
+  const Gom& g = gomOf(s);
+  const IntMesh input = g.grid.quantise(g.frames[0]);
+  size_t bytes = 0;
+  for (auto _ : state) {
+    IMeshEncoding e = encodeIMesh(input, kGridBits, 0);
+    bytes = e.payload.size();
+    benchmark::DoNotOptimize(e.payload.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(input.positions.size()));
+  state.counters["bytes"] = double(bytes);
+  state.SetLabel("vertices/s");
+}
+
+void iMeshDecode(benchmark::State& state, const BenchSequence& s) {
+  const Gom& g = gomOf(s);
+  for (auto _ : state) {
+    IntMesh m = decodeIMesh(g.iMesh.payload, kGridBits, "bench");
+    benchmark::DoNotOptimize(m.positions.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(g.vertices()));
+  state.counters["bytes"] = double(g.iMesh.payload.size());
+  state.SetLabel("vertices/s");
+}
+
+// The whole stream of a sequence under a condition, encoded once on first use.
+const std::vector<uint8_t>& streamOf(const BenchSequence& s, const Condition& c) {
+  static std::map<std::string, std::vector<uint8_t>> cache;
+  std::vector<uint8_t>& stream = cache[s.name + "/" + c.name];
+  if (!stream.empty()) return stream;
+  const Gom& g = gomOf(s);
+  stream =
+      encodeSequence(encoderParams(c, s), g.grid, g.frames, {}, [](int, const IntMesh&) {}).stream;
+  return stream;
+}
+
+void streamDecode(benchmark::State& state, const BenchSequence& s, const Condition& c, bool md5) {
+  const std::vector<uint8_t>& stream = streamOf(s, c);
+  int64_t frames = 0, vertexFrames = 0;
+  for (auto _ : state) {
+    frames = vertexFrames = 0;
+    StreamDecoder decoder(stream.data(), stream.size(), "bench.3dvo");
+    decoder.decode([&](int frame, const IntMesh& mesh) {
+      if (md5) benchmark::DoNotOptimize(geometryDigest(mesh));
+      benchmark::DoNotOptimize(frame);
+      ++frames;
+      vertexFrames += int64_t(mesh.positions.size());
+    });
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * frames);
+  state.counters["vertex-frames/s"] = benchmark::Counter(
+      double(vertexFrames) * double(state.iterations()), benchmark::Counter::kIsRate);
+  state.SetLabel("frames/s");
+}
+
+void streamEncode(benchmark::State& state, const BenchSequence& s, const Condition& c,
+                  int threads) {
+  const Gom& g = gomOf(s);
+  EncoderParams params = encoderParams(c, s);
+  params.threads = threads;
+  for (auto _ : state) {
+    EncodedSequence e = encodeSequence(params, g.grid, g.frames, {}, [](int, const IntMesh&) {});
+    benchmark::DoNotOptimize(e.stream.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(g.frames.size()));
+  state.SetLabel("frames/s");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  for (const BenchSequence& s : bench::benchSequences()) {
+    const std::string seq = "/" + s.name;
+    for (const Condition& c : kConditions)
+      benchmark::RegisterBenchmark(("PMeshDecode/" + std::string(c.name) + seq).c_str(),
+                                   pmeshDecode, s, c)
+          ->Unit(benchmark::kMillisecond);
+    for (const Condition& c : kConditions)
+      benchmark::RegisterBenchmark(("PMeshEncode/" + std::string(c.name) + seq).c_str(),
+                                   pmeshEncode, s, c)
+          ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("GomTopologyBuild" + seq).c_str(), topologyBuild, s)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("IMeshEncode" + seq).c_str(), iMeshEncode, s)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("IMeshDecode" + seq).c_str(), iMeshDecode, s)
+        ->Unit(benchmark::kMillisecond);
+    for (const Condition& c : kConditions) {
+      benchmark::RegisterBenchmark(("StreamDecode/" + std::string(c.name) + seq).c_str(),
+                                   streamDecode, s, c, false)
+          ->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark(("StreamDecodeMd5/" + std::string(c.name) + seq).c_str(),
+                                   streamDecode, s, c, true)
+          ->Unit(benchmark::kMillisecond);
+    }
+    for (const Condition& c : kConditions)
+      for (int threads : {1, 2})
+        benchmark::RegisterBenchmark(
+            ("StreamEncode/" + std::string(c.name) + seq + "/threads:" + std::to_string(threads))
+                .c_str(),
+            streamEncode, s, c, threads)
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();  // wall time: the point of threads
+  }
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,80 @@
+#include "common/interrupt.h"
+
+#include <pthread.h>
+#include <signal.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <thread>
+
+namespace tdvo {
+
+namespace {
+
+std::mutex gMutex;
+std::map<uint64_t, std::string> gPaths;  // handle -> path; handles grow with time
+uint64_t gNextHandle = 0;
+
+sigset_t interruptSignals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGHUP);
+  return set;
+}
+
+[[noreturn]] void cleanupThread(sigset_t set) {
+  int signal = 0;
+  while (sigwait(&set, &signal) != 0) {
+  }
+  // Held until the process is gone, so no registered file can be created after the removal.
+  gMutex.lock();
+  // Newest first: files before the folders they may be in.
+  for (auto it = gPaths.rbegin(); it != gPaths.rend(); ++it)
+    std::remove(it->second.c_str());
+  // Die of the signal itself: default action, unblocked in this thread, raised at it.
+  struct sigaction action = {};
+  action.sa_handler = SIG_DFL;
+  sigemptyset(&action.sa_mask);
+  sigaction(signal, &action, nullptr);
+  sigset_t one;
+  sigemptyset(&one);
+  sigaddset(&one, signal);
+  pthread_sigmask(SIG_UNBLOCK, &one, nullptr);
+  raise(signal);
+  // Not reached for the three signals (their default action ends the process).
+  std::_Exit(128 + signal);
+}
+
+}  // namespace
+
+void installInterruptCleanup() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    const sigset_t set = interruptSignals();
+    pthread_sigmask(SIG_BLOCK, &set, nullptr);
+    std::thread(cleanupThread, set).detach();
+  });
+}
+
+std::unique_lock<std::mutex> InterruptRegistry::lock() {
+  return std::unique_lock<std::mutex>(gMutex);
+}
+
+uint64_t InterruptRegistry::add(const std::string& path) {
+  gPaths.emplace(gNextHandle, path);
+  return gNextHandle++;
+}
+
+void InterruptRegistry::drop(uint64_t handle) {
+  gPaths.erase(handle);
+}
+
+size_t InterruptRegistry::size() {
+  const std::unique_lock<std::mutex> held = lock();
+  return gPaths.size();
+}
+
+}  // namespace tdvo

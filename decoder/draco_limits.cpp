@@ -1,0 +1,109 @@
+#include "decoder/draco_limits.h"
+
+#include <cstring>
+
+#include "bitstream/syntax.h"
+#include "common/error.h"
+
+namespace tdvo {
+
+namespace {
+
+// Constants of the Draco bitstream specification.
+constexpr char kDracoMagic[5] = {'D', 'R', 'A', 'C', 'O'};
+constexpr uint8_t kTriangularMesh = 1;
+constexpr uint8_t kSequentialEncoding = 0, kEdgebreakerEncoding = 1;
+constexpr uint16_t kMetadataFlag = 0x8000;
+constexpr uint8_t kMaxTraversalType = 2;
+
+class HeaderReader {
+ public:
+  HeaderReader(const std::vector<uint8_t>& data, const std::string& context)
+      : data_(data), context_(context) {}
+
+  uint8_t u8(const char* name) {
+    need(1, name);
+    return data_[pos_++];
+  }
+  uint16_t u16(const char* name) {
+    need(2, name);
+    const uint16_t v = static_cast<uint16_t>(data_[pos_] | data_[pos_ + 1] << 8);
+    pos_ += 2;
+    return v;
+  }
+  // varUI32: little-endian base-128, at most 5 bytes, the value must fit 32 bits.
+  uint32_t varint(const char* name) {
+    uint64_t v = 0;
+    for (int shift = 0; shift < 35; shift += 7) {
+      const uint8_t b = u8(name);
+      v |= uint64_t{b & 0x7Fu} << shift;
+      if (!(b & 0x80)) {
+        if (v > UINT32_MAX) fail(std::string(name) + " does not fit 32 bits");
+        return static_cast<uint32_t>(v);
+      }
+    }
+    fail(std::string(name) + " is longer than 5 bytes");
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error(context_ + ": im_draco_payload: " + what);
+  }
+
+ private:
+  void need(size_t n, const char* name) const {
+    if (data_.size() - pos_ < n) fail(std::string("ends inside the Draco header (") + name + ")");
+  }
+  const std::vector<uint8_t>& data_;
+  const std::string& context_;
+  size_t pos_ = 0;
+};
+
+}  // namespace
+
+DracoMeshCounts checkDracoMeshCounts(const std::vector<uint8_t>& payload,
+                                     const std::string& context) {
+  HeaderReader in(payload, context);
+  if (payload.size() < sizeof kDracoMagic ||
+      std::memcmp(payload.data(), kDracoMagic, sizeof kDracoMagic) != 0)
+    in.fail("not a Draco bitstream (no \"DRACO\" at its start)");
+  for (size_t i = 0; i < sizeof kDracoMagic; ++i)
+    in.u8("draco_string");
+  DracoMeshCounts c;
+  c.versionMajor = in.u8("major_version");
+  c.versionMinor = in.u8("minor_version");
+  if (in.u8("encoder_type") != kTriangularMesh) in.fail("not a Draco triangle mesh");
+  if (c.versionMajor != 2 || c.versionMinor != 2)
+    in.fail("Draco bitstream version " + std::to_string(c.versionMajor) + "." +
+            std::to_string(c.versionMinor) + " (3DVO takes 2.2, written by Draco 1.5)");
+  c.encoderMethod = in.u8("encoder_method");
+  const uint16_t flags = in.u16("flags");
+  if (flags & kMetadataFlag) in.fail("carries Draco metadata (not allowed in 3DVO)");
+
+  if (c.encoderMethod == kSequentialEncoding) {
+    c.numFaces = in.varint("num_faces");
+    c.numVertices = in.varint("num_points");
+  } else if (c.encoderMethod == kEdgebreakerEncoding) {
+    c.traversalType = in.u8("edgebreaker_traversal_type");
+    if (c.traversalType > kMaxTraversalType)
+      in.fail("unknown Edgebreaker traversal type " + std::to_string(c.traversalType));
+    c.numVertices = in.varint("num_encoded_vertices");
+    c.numFaces = in.varint("num_faces");
+    in.u8("num_attribute_data");
+    const uint32_t numSymbols = in.varint("num_encoded_symbols");
+    c.numSplitSymbols = in.varint("num_encoded_split_symbols");
+    if (numSymbols > c.numFaces || c.numSplitSymbols > numSymbols)
+      in.fail("inconsistent Edgebreaker counts (" + std::to_string(c.numFaces) + " faces, " +
+              std::to_string(numSymbols) + " symbols, " + std::to_string(c.numSplitSymbols) +
+              " split symbols)");
+  } else {
+    in.fail("unknown Draco encoding method " + std::to_string(c.encoderMethod));
+  }
+  if (c.numVertices > kMaxVertices)
+    in.fail("declares " + std::to_string(c.numVertices) + " vertices (limit " +
+            std::to_string(kMaxVertices) + ")");
+  if (c.numFaces > kMaxTriangles)
+    in.fail("declares " + std::to_string(c.numFaces) + " triangles (limit " +
+            std::to_string(kMaxTriangles) + ")");
+  return c;
+}
+
+}  // namespace tdvo

@@ -1,0 +1,38 @@
+// A check of the element counts a Draco mesh bitstream declares, made before Draco sees it.
+//
+// Draco's decoder (1.5.5, Debian 12) allocates from the counts at the start of its
+// connectivity data before it finds out that the payload cannot hold that many elements:
+// an Edgebreaker payload of 700 bytes declaring 2^30 vertices and 7·10^8 faces made it use
+// 16 GB and 113 s before it failed (docs/robustness.md). This check parses the few header
+// fields in front of those counts (Draco bitstream specification: header, then
+// ParseEdgebreakerConnectivityData / DecodeSequentialConnectivityData) and rejects counts above
+// the I-mesh limits of docs/bitstream.md, so Draco's allocation is bounded by what a mesh of
+// the largest allowed size needs.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tdvo {
+
+// The fields of a Draco mesh header that bound Draco's allocations.
+struct DracoMeshCounts {
+  uint8_t versionMajor = 0, versionMinor = 0;
+  uint8_t encoderMethod = 0;     // 0 sequential, 1 Edgebreaker
+  uint8_t traversalType = 0;     // Edgebreaker only: 0 standard, 1 predictive, 2 valence
+  uint32_t numVertices = 0;      // sequential: num_points; Edgebreaker: num_encoded_vertices
+  uint32_t numFaces = 0;         // num_faces
+  uint32_t numSplitSymbols = 0;  // Edgebreaker only: num_encoded_split_symbols
+};
+
+// Parses the header and connectivity counts of `payload` and checks them. The payload must be a
+// Draco triangle mesh of bitstream version 2.2 (what Draco 1.5 writes) without metadata, coded
+// sequentially or with Edgebreaker, declaring at most kMaxVertices vertices and kMaxTriangles
+// faces (and, for Edgebreaker, no more symbols than faces and split symbols than symbols, which
+// Draco requires too: so its split vertices are bounded as well). Throws Error, prefixed by
+// `context`, otherwise. Draco checks everything after these fields itself.
+DracoMeshCounts checkDracoMeshCounts(const std::vector<uint8_t>& payload,
+                                     const std::string& context);
+
+}  // namespace tdvo

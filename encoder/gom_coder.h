@@ -1,0 +1,46 @@
+// Geometry coding of one GOM on its own. GOMs share nothing but the grid and the parameters (a
+// GOM starts with an I mesh and its P meshes refer only to frames of the same GOM), so they can
+// be coded in any order, also in parallel; encodeSequence (sequence_encoder.h) writes the
+// results into the stream in GOM order. Everything here is a pure function of its inputs.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "bitstream/units.h"
+#include "common/grid.h"
+#include "common/mesh.h"
+#include "encoder/encoder_params.h"
+#include "encoder/imesh_encoder.h"
+
+namespace tdvo {
+
+// A coded GOM, ready to be appended to the stream.
+struct GomGeometry {
+  struct Unit {
+    UnitType type;
+    std::vector<uint8_t> payload;
+  };
+  struct Frame {
+    std::vector<Vec3i> positions;  // the reconstruction (= the decoder's output)
+    size_t iMesh = 0;              // its connectivity and vertex order: iMeshes[iMesh]
+    std::vector<Vec3i> input;      // the input quantised to the grid, in input vertex order
+  };
+  std::vector<Unit> units;             // GOM_HEADER, I_MESH(es), P_MESHes, in stream order
+  std::vector<IMeshEncoding> iMeshes;  // one per I mesh of the GOM
+  std::vector<Frame> frames;           // the GOM's frames in order
+  std::vector<std::string> warnings;   // for stderr, in the order a sequential run meets them
+};
+
+// Codes frames first .. first + frames.size() - 1 of a sequence as one GOM (`frames` are the
+// GOM's input meshes, taken over and released as soon as they are on the grid). `frameName(k)`
+// names sequence frame k in error messages. Throws Error on input the codec cannot represent
+// (connectivity changing inside a GOM of P meshes, degenerate triangles).
+GomGeometry encodeGomGeometry(const EncoderParams& params, const Grid& grid, size_t first,
+                              std::vector<Mesh> frames,
+                              const std::function<std::string(size_t)>& frameName);
+
+}  // namespace tdvo

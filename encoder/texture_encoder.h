@@ -1,0 +1,58 @@
+// Texture coding: each camera's video, cut to its texture box, padded outside the object's
+// shape and coded as H.264 (docs/textures.md).
+//
+// The box of each camera is fixed for the sequence (so each camera is one H.264 stream of one
+// size): in bbox mode the macroblock-aligned bounding box of the input geometry's shape over
+// all frames, grown by TextureBoxMargin; in full mode the whole frame. The shape used for
+// padding is the *decoded* geometry's, as the decoder will see it. Each GOM starts with an IDR
+// picture. The encoder decodes its own access units (the decoder's H.264 path) so that what
+// it reports is exactly what a decoder outputs.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "bitstream/syntax.h"
+#include "bitstream/units.h"
+#include "common/dataset.h"
+#include "common/grid.h"
+#include "common/yuv.h"
+#include "decoder/stream_decoder.h"
+#include "encoder/encoder_params.h"
+
+namespace tdvo {
+
+
+class H264Encoder;
+class H264Decoder;
+
+class TextureEncoder {
+ public:
+  // `frames` are the input meshes (frame k = dataset frame params.firstFrame + k); they only
+  // choose the boxes.
+  TextureEncoder(const EncoderParams& params, const Dataset& dataset,
+                 const std::vector<Mesh>& frames);
+  ~TextureEncoder();
+
+  // The cameras and boxes, for the sequence header.
+  const std::vector<CameraParameters>& cameras() const { return cameras_; }
+
+  // Codes the textures of frames first .. first + decoded.size() - 1 (one GOM) from their
+  // decoded meshes; writes one TEXTURE unit per frame and camera (frame-major).
+  void encodeGom(size_t first, const std::vector<IntMesh>& decoded, const Grid& grid,
+                 UnitWriter& units, const TextureCallback& onTexture);
+
+ private:
+  const EncoderParams& params_;
+  const Dataset& dataset_;
+  std::vector<CameraParameters> cameras_;
+  std::vector<CameraFrames> frames_;
+  std::vector<std::unique_ptr<H264Encoder>> encoders_;
+  std::vector<std::unique_ptr<H264Decoder>> decoders_;
+};
+
+// Reads the geometry from a dataset's meshes: frames params.firstFrame .. + frameCount - 1.
+std::vector<Mesh> readDatasetFrames(const Dataset& dataset, int firstFrame, int frameCount);
+
+}  // namespace tdvo

@@ -1,0 +1,63 @@
+// Fuzz target: the cfg parser (OptionTable) with the encoder's real option table
+// (EncoderParams), its semantic checks (validate) and the frame patterns it accepts.
+//
+// The input is cfg text. It is applied twice to fresh tables: as a cfg file (parseText), and
+// line by line as command-line arguments (parseCommandLine; "-c", which would open a file the
+// input names, and "--help", which prints, are left out). Whatever a table accepts is printed
+// back (effectiveConfig) and its frame patterns are expanded. Seeds: cfg/ and
+// conformance/cfg/ and fuzz/seeds/cfg/.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/config.h"
+#include "common/error.h"
+#include "common/sequence.h"
+#include "encoder/encoder_params.h"
+#include "fuzz/fuzz_support.h"
+
+namespace {
+
+void accepted(const tdvo::OptionTable& table, const tdvo::EncoderParams& params) {
+  table.effectiveConfig();
+  params.validate();
+  tdvo::framePath(params.inputMeshPattern, params.firstFrame);
+  tdvo::framePath(params.inputMeshPattern, params.firstFrame + params.frameCount - 1);
+  if (!params.reconMeshPattern.empty()) tdvo::framePath(params.reconMeshPattern, 0);
+  params.effectiveLambda();
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  try {
+    tdvo::EncoderParams params;
+    tdvo::OptionTable table("3dvo-enc", "fuzz");
+    params.registerOptions(table);
+    table.parseText(text, "fuzz.cfg");
+    accepted(table, params);
+  } catch (const tdvo::Error&) {
+  }
+  try {
+    std::vector<std::string> args = {"3dvo-enc"};
+    size_t start = 0;
+    while (start <= text.size()) {
+      size_t end = text.find('\n', start);
+      if (end == std::string::npos) end = text.size();
+      const std::string arg = text.substr(start, end - start);
+      if (arg != "-c" && arg != "-h" && arg != "--help") args.push_back(arg);
+      start = end + 1;
+    }
+    std::vector<const char*> argv;
+    for (const std::string& a : args)
+      argv.push_back(a.c_str());
+    tdvo::EncoderParams params;
+    tdvo::OptionTable table("3dvo-enc", "fuzz");
+    params.registerOptions(table);
+    table.parseCommandLine(static_cast<int>(argv.size()), argv.data());
+    accepted(table, params);
+  } catch (const tdvo::Error&) {
+  }
+  return 0;
+}

@@ -1,0 +1,168 @@
+// fuzz_make_corpus SOURCE_DIR OUT_DIR: writes the seed corpus of every fuzz target, one folder
+// per target (OUT_DIR/stream, units, imesh, pmesh, cfg, obj), from files in the source tree:
+//
+//   stream, units  every conformance stream (conformance/streams/*.3dvo), as it is
+//   imesh          every I-mesh unit's im_draco_payload of those streams
+//   pmesh          every P-mesh unit's pm_cabac_payload, behind the 4-byte header that
+//                  pmesh_fuzz.cpp reads (mode, quant step, octree depth of the unit's GOM)
+//   cfg            cfg/**/*.cfg, conformance/cfg/*.cfg, fuzz/seeds/cfg/*
+//   obj            frame 0 of each conformance input (decompressed), fuzz/seeds/obj/*
+//   dataset        fuzz/seeds/dataset/*
+//   png            small PNGs of 1 to 4 channels written by encodePng
+//
+// Seeds are generated rather than committed so that they follow the conformance streams when
+// those are regenerated. Exit code 1 (one error line) on any problem.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bitstream/syntax.h"
+#include "bitstream/units.h"
+#include "common/app.h"
+#include "common/file_io.h"
+#include "common/image.h"
+
+using namespace tdvo;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<fs::path> filesIn(const fs::path& folder, const std::string& extension,
+                              bool recursive) {
+  std::vector<fs::path> files;
+  if (!fs::is_directory(folder)) return files;
+  auto take = [&](const fs::directory_entry& entry) {
+    if (entry.is_regular_file() && (extension.empty() || entry.path().extension() == extension))
+      files.push_back(entry.path());
+  };
+  if (recursive) {
+    for (const auto& entry : fs::recursive_directory_iterator(folder))
+      take(entry);
+  } else {
+    for (const auto& entry : fs::directory_iterator(folder))
+      take(entry);
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+void write(const fs::path& path, const std::vector<uint8_t>& bytes) {
+  writeFileAtomic(path.string(), bytes.data(), bytes.size());
+}
+
+void copyTo(const fs::path& file, const fs::path& folder, const std::string& name) {
+  write(folder / name, readFileBytes(file.string()));
+}
+
+template <class T>
+T parseUnit(const UnitView& unit) {
+  ByteReader reader(unit.payload, unit.size, unit.describe(), unit.payloadOffset);
+  T value;
+  transfer(reader, value);
+  reader.expectEnd("the structure");
+  return value;
+}
+
+// The I- and P-mesh payloads of one conformance stream.
+int extractPayloads(const fs::path& streamPath, const fs::path& out) {
+  const std::vector<uint8_t> stream = readFileBytes(streamPath.string());
+  const std::string stem = streamPath.stem().string();
+  UnitReader units(stream.data(), stream.size(), streamPath.string());
+  UnitView unit;
+  GomHeader gh;
+  int written = 0;
+  while (units.next(unit)) {
+    const std::string name = stem + "-unit" + std::to_string(unit.index);
+    if (unit.type == static_cast<uint8_t>(UnitType::kGomHeader)) {
+      gh = parseUnit<GomHeader>(unit);
+    } else if (unit.type == static_cast<uint8_t>(UnitType::kIMesh)) {
+      write(out / "imesh" / (name + ".draco"), parseUnit<IMeshUnit>(unit).im_draco_payload);
+      ++written;
+    } else if (unit.type == static_cast<uint8_t>(UnitType::kPMesh)) {
+      const PMeshUnit pm = parseUnit<PMeshUnit>(unit);
+      const uint16_t step = static_cast<uint16_t>(gh.gh_motion_quant_step - 1);
+      std::vector<uint8_t> seed = {
+          static_cast<uint8_t>(gh.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kAfxic)),
+          static_cast<uint8_t>(step & 0xFF), static_cast<uint8_t>(step >> 8),
+          gh.gh_max_octree_depth};
+      seed.insert(seed.end(), pm.pm_cabac_payload.begin(), pm.pm_cabac_payload.end());
+      write(out / "pmesh" / (name + ".pmesh"), seed);
+      ++written;
+    }
+  }
+  return written;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return runApp("fuzz_make_corpus", [&]() {
+    check(argc == 3, "usage: fuzz_make_corpus SOURCE_DIR OUT_DIR");
+    const fs::path source = argv[1], out = argv[2];
+    for (const char* target :
+         {"stream", "units", "imesh", "pmesh", "cfg", "obj", "dataset", "png"}) {
+      std::error_code ec;
+      fs::remove_all(out / target, ec);
+      makeDirectories((out / target).string());
+    }
+
+    const std::vector<fs::path> streams = filesIn(source / "conformance/streams", ".3dvo", false);
+    check(!streams.empty(), (source / "conformance/streams").string() + ": no .3dvo streams");
+    int payloads = 0;
+    for (const fs::path& s : streams) {
+      copyTo(s, out / "stream", s.filename().string());
+      copyTo(s, out / "units", s.filename().string());
+      payloads += extractPayloads(s, out);
+    }
+
+    int cfgs = 0;
+    for (const fs::path& folder : {source / "cfg", source / "conformance/cfg"})
+      for (const fs::path& f : filesIn(folder, ".cfg", true)) {
+        std::string name = fs::relative(f, source).string();
+        std::replace(name.begin(), name.end(), '/', '_');
+        copyTo(f, out / "cfg", name);
+        ++cfgs;
+      }
+    for (const fs::path& f : filesIn(source / "fuzz/seeds/cfg", "", false)) {
+      copyTo(f, out / "cfg", "seed_" + f.filename().string());
+      ++cfgs;
+    }
+
+    int objs = 0;
+    for (const auto& entry : fs::directory_iterator(source / "conformance/inputs")) {
+      const fs::path frame0 = entry.path() / "0000.obj.gz";
+      if (!fs::exists(frame0)) continue;
+      const std::string text = readFileMaybeGz(frame0.string());
+      writeFileAtomic((out / "obj" / (entry.path().filename().string() + "-0000.obj")).string(),
+                      text);
+      ++objs;
+    }
+    for (const fs::path& f : filesIn(source / "fuzz/seeds/obj", "", false)) {
+      copyTo(f, out / "obj", "seed_" + f.filename().string());
+      ++objs;
+    }
+    int datasets = 0;
+    for (const fs::path& f : filesIn(source / "fuzz/seeds/dataset", "", false)) {
+      copyTo(f, out / "dataset", f.filename().string());
+      ++datasets;
+    }
+
+    int pngs = 0;
+    for (int channels = 1; channels <= 4; ++channels)
+      for (int size : {1, 3, 16}) {
+        Image image(size, size + 1, channels);
+        for (size_t i = 0; i < image.pixels.size(); ++i)
+          image.pixels[i] = static_cast<uint8_t>(i * 37 + channels);
+        write(out / "png" / ("c" + std::to_string(channels) + "-" + std::to_string(size) + ".png"),
+              encodePng(image));
+        ++pngs;
+      }
+    std::printf(
+        "fuzz_make_corpus: %zu streams, %d mesh payloads, %d cfg, %d obj, %d dataset, "
+        "%d png -> %s\n",
+        streams.size(), payloads, cfgs, objs, datasets, pngs, out.c_str());
+    return 0;
+  });
+}

@@ -1,0 +1,1282 @@
+// The malformed-input catalogue (docs/errors.md), one test per row: each builds the row's input,
+// runs the app from TDVO_BIN_DIR on it and checks the row's exit code, that stderr is exactly one
+// "<app>: error: " line containing the row's message, and that no file was left behind. The rows
+// are read from docs/errors.md itself, so the page cannot drift from what the apps print, and a
+// test checks that every row has a test and every test a row.
+//
+// Malformed streams that must get past the CRC check are built with UnitWriter from the units
+// of a small correct stream (6 frames of a 42-vertex sphere, 10-bit grid, two d3dmc GOMs of 3
+// frames: units SH, GH, I, P, P, GH, I, P, P). Exhaustive variants (every truncation length,
+// one flipped bit in every byte) run at library level after the rows.
+#include <draco/compression/encode.h>
+#include <draco/mesh/mesh.h>
+#include <draco/point_cloud/point_cloud.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "bitstream/syntax.h"
+#include "bitstream/units.h"
+#include "common/cabac.h"
+#include "common/error.h"
+#include "common/image.h"
+#include "common/obj_io.h"
+#include "decoder/stream_decoder.h"
+#include "encoder/imesh_encoder.h"
+#include "encoder/sequence_encoder.h"
+#include "tests/test_support.h"
+
+namespace tdvo {
+namespace {
+
+using test::CommandResult;
+using test::TempDir;
+
+const std::string kBin = TDVO_BIN_DIR;
+
+// ---- The catalogue page ----
+
+struct Row {
+  std::string message;  // the stable part of the error line
+  int exitCode = -1;
+};
+
+// Splits a markdown table row at unescaped '|'; "\|" becomes '|'.
+std::vector<std::string> cells(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cell;
+  for (size_t i = 1; i < line.size(); ++i) {
+    if (line[i] == '\\' && i + 1 < line.size() && line[i + 1] == '|') {
+      cell += '|';
+      ++i;
+    } else if (line[i] == '|') {
+      out.push_back(cell);
+      cell.clear();
+    } else {
+      cell += line[i];
+    }
+  }
+  return out;
+}
+
+// Rows "| ID | input | `message` | exit |" of docs/errors.md, ID like S01.
+const std::map<std::string, Row>& catalogue() {
+  static const std::map<std::string, Row> rows = [] {
+    std::map<std::string, Row> out;
+    const std::string page = test::readText(std::string(TDVO_SOURCE_DIR) + "/docs/errors.md");
+    for (const std::string& line : test::lines(page)) {
+      if (line.rfind("| ", 0) != 0) continue;
+      const std::vector<std::string> c = cells(line);
+      if (c.size() != 4) continue;
+      std::string id = c[0];
+      id.erase(std::remove(id.begin(), id.end(), ' '), id.end());
+      if (id.size() != 3 || !std::isupper(static_cast<unsigned char>(id[0])) ||
+          !std::isdigit(static_cast<unsigned char>(id[1])))
+        continue;
+      const size_t open = c[2].find('`'), close = c[2].rfind('`');
+      if (open == std::string::npos || close <= open) continue;
+      Row row;
+      row.message = c[2].substr(open + 1, close - open - 1);
+      row.exitCode = std::atoi(c[3].c_str());
+      EXPECT_TRUE(out.emplace(id, row).second) << "row " << id << " appears twice";
+    }
+    return out;
+  }();
+  return rows;
+}
+
+std::set<std::string>& testedRows() {
+  static std::set<std::string> ids;
+  return ids;
+}
+
+bool registerRow(const char* id) {
+  return testedRows().insert(id).second;
+}
+
+// A test for catalogue row ID.
+#define CATALOGUE_TEST(ID)                                 \
+  [[maybe_unused]] const bool kRow##ID = registerRow(#ID); \
+  TEST_F(ErrorsTest, ID)
+
+// ---- Streams ----
+
+struct Unit {
+  uint8_t type;
+  std::vector<uint8_t> payload;
+};
+
+std::vector<Unit> split(const std::vector<uint8_t>& stream) {
+  UnitReader reader(stream.data(), stream.size(), "split");
+  std::vector<Unit> units;
+  UnitView u;
+  while (reader.next(u))
+    units.push_back({u.type, std::vector<uint8_t>(u.payload, u.payload + u.size)});
+  return units;
+}
+
+// Joins units into a stream with correct CRCs.
+std::vector<uint8_t> join(const std::vector<Unit>& units) {
+  UnitWriter writer;
+  for (const Unit& u : units)
+    writer.write(static_cast<UnitType>(u.type), u.payload);
+  return writer.bytes();
+}
+
+// Offsets of the units in a stream.
+std::vector<size_t> unitOffsets(const std::vector<uint8_t>& stream) {
+  UnitReader reader(stream.data(), stream.size(), "offsets");
+  std::vector<size_t> offsets;
+  UnitView u;
+  while (reader.next(u))
+    offsets.push_back(u.offset);
+  return offsets;
+}
+
+template <class T>
+T parse(const Unit& unit) {
+  ByteReader reader(unit.payload.data(), unit.payload.size(), "parse", 0);
+  T value;
+  transfer(reader, value);
+  return value;
+}
+
+template <class T>
+std::vector<uint8_t> serialise(T value) {
+  ByteWriter writer;
+  transfer(writer, value);
+  return writer.take();
+}
+
+void putU16(std::vector<uint8_t>& p, size_t at, uint16_t v) {
+  p[at] = static_cast<uint8_t>(v);
+  p[at + 1] = static_cast<uint8_t>(v >> 8);
+}
+void putU32(std::vector<uint8_t>& p, size_t at, uint32_t v) {
+  for (int i = 0; i < 4; ++i)
+    p[at + i] = static_cast<uint8_t>(v >> (8 * i));
+}
+void putF64(std::vector<uint8_t>& p, size_t at, double v) {
+  std::memcpy(&p[at], &v, 8);
+}
+
+// Byte offsets of fields in the payloads (docs/bitstream.md, sections 2 and 3).
+constexpr size_t kShVersion = 0, kShFrameCount = 2, kShFrameRate = 6, kShGridBits = 14,
+                 kShOrigin = 15, kShStep = 39;
+constexpr size_t kGhFirstFrame = 0, kGhFrameCount = 4, kGhMode = 6, kGhQuantStep = 7, kGhDepth = 9,
+                 kGhNumKeyframes = 10, kGhDelta = 12;
+
+constexpr int kFrames = 6, kGridBits = 10;
+
+// The correct stream the malformed ones are made from, and the decoder's MD5 lines for it.
+const std::vector<uint8_t>& baseStream() {
+  static const std::vector<uint8_t> stream = [] {
+    EncoderParams params;
+    params.gridBits = kGridBits;
+    params.gomSize = 3;
+    params.frameCount = kFrames;
+    params.pmeshMode = PMeshMode::kD3dmc;
+    const std::vector<Mesh> frames = test::wobblingSphere(1, kFrames);
+    return encodeSequence(params, gridForSequence(frames, kGridBits), frames, {},
+                          [](int, const IntMesh&) {})
+        .stream;
+  }();
+  return stream;
+}
+
+std::vector<Unit> baseUnits() {
+  return split(baseStream());
+}
+
+// The base stream's I-mesh payload (unit 2) after its im_frame.
+std::vector<uint8_t> dracoPayload() {
+  return parse<IMeshUnit>(baseUnits()[2]).im_draco_payload;
+}
+
+std::vector<uint8_t> iMeshUnitPayload(uint32_t frame, const std::vector<uint8_t>& draco) {
+  IMeshUnit im;
+  im.im_frame = frame;
+  im.im_draco_payload = draco;
+  return serialise(im);
+}
+
+std::vector<uint8_t> varint(uint64_t v) {
+  std::vector<uint8_t> out;
+  do {
+    uint8_t b = v & 0x7F;
+    v >>= 7;
+    if (v) b |= 0x80;
+    out.push_back(b);
+  } while (v);
+  return out;
+}
+
+// The base Draco payload (Edgebreaker) with its connectivity counts replaced: 11 header bytes,
+// the traversal type, then num_encoded_vertices, num_faces, num_attribute_data,
+// num_encoded_symbols, num_encoded_split_symbols and the rest.
+std::vector<uint8_t> dracoWithCounts(uint32_t vertices, uint32_t faces, uint32_t symbols) {
+  const std::vector<uint8_t> p = dracoPayload();
+  size_t pos = 12;
+  auto readVarint = [&]() {
+    uint64_t v = 0;
+    for (int shift = 0;; shift += 7) {
+      const uint8_t b = p.at(pos++);
+      v |= uint64_t{b & 0x7Fu} << shift;
+      if (!(b & 0x80)) return v;
+    }
+  };
+  EXPECT_EQ(p.at(8), 1) << "expected an Edgebreaker payload";
+  readVarint();
+  readVarint();
+  const uint8_t attributeData = p.at(pos++);
+  readVarint();
+  const uint64_t splits = readVarint();
+  std::vector<uint8_t> out(p.begin(), p.begin() + 12);
+  for (uint64_t v : {uint64_t{vertices}, uint64_t{faces}}) {
+    const std::vector<uint8_t> b = varint(v);
+    out.insert(out.end(), b.begin(), b.end());
+  }
+  out.push_back(attributeData);
+  for (uint64_t v : {uint64_t{symbols}, splits}) {
+    const std::vector<uint8_t> b = varint(v);
+    out.insert(out.end(), b.begin(), b.end());
+  }
+  out.insert(out.end(), p.begin() + static_cast<long>(pos), p.end());
+  return out;
+}
+
+// A Draco payload of any geometry, encoded by Draco itself.
+std::vector<uint8_t> dracoEncode(draco::PointCloud& geometry, bool mesh) {
+  draco::Encoder encoder;
+  draco::EncoderBuffer buffer;
+  const draco::Status status =
+      mesh ? encoder.EncodeMeshToBuffer(static_cast<draco::Mesh&>(geometry), &buffer)
+           : encoder.EncodePointCloudToBuffer(geometry, &buffer);
+  EXPECT_TRUE(status.ok()) << status.error_msg_string();
+  return std::vector<uint8_t>(buffer.data(), buffer.data() + buffer.size());
+}
+
+// One triangle (or, with mesh false, a point cloud of its 3 points) with a 3-component
+// POSITION attribute of type int32 or float32.
+std::vector<uint8_t> dracoTriangle(draco::DataType type, bool mesh) {
+  draco::Mesh m;
+  draco::PointCloud pc;
+  draco::PointCloud& geometry = mesh ? static_cast<draco::PointCloud&>(m) : pc;
+  geometry.set_num_points(3);
+  if (mesh) m.AddFace({draco::PointIndex(0), draco::PointIndex(1), draco::PointIndex(2)});
+  draco::GeometryAttribute attribute;
+  attribute.Init(draco::GeometryAttribute::POSITION, nullptr, 3, type, false, 12, 0);
+  const int id = geometry.AddAttribute(attribute, true, 3);
+  for (int i = 0; i < 3; ++i) {
+    const float f[3] = {float(i == 1), float(i == 2), 0};
+    const int32_t n[3] = {i == 1, i == 2, 0};
+    geometry.attribute(id)->SetAttributeValue(
+        draco::AttributeValueIndex(i),
+        type == draco::DT_FLOAT32 ? static_cast<const void*>(f) : static_cast<const void*>(n));
+  }
+  return dracoEncode(geometry, mesh);
+}
+
+// A P-mesh payload coding one AFX-IC residual `value` for vertex 0, component x (then stops).
+std::vector<uint8_t> afxicResidualPayload(int32_t value) {
+  CabacEncoder encoder;
+  ContextModel contexts[6];
+  encodeSignedUEGk(encoder, contexts, 6, value, 0, 12);
+  return encoder.finish();
+}
+
+// The base units with GOM 0 turned into an afxic GOM (same keyframes, no octree depth).
+std::vector<Unit> afxicUnits() {
+  std::vector<Unit> units = baseUnits();
+  std::vector<uint8_t>& gh = units[1].payload;
+  gh[kGhMode] = static_cast<uint8_t>(PMeshMode::kAfxic);
+  gh.erase(gh.begin() + kGhDepth);
+  return units;
+}
+
+// ---- Running the apps ----
+
+class ErrorsTest : public testing::Test {
+ protected:
+  // Every file under the folder, relative.
+  std::vector<std::string> tree() const {
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(dir_.path()))
+      names.push_back(std::filesystem::relative(entry.path(), dir_.path()).string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+  // Runs `app` (3dvo-enc or 3dvo-dec) with `args` in the test folder and checks the result
+  // against catalogue row `id`: its exit code, one "<app>: error: " line holding its message,
+  // and no new file (an output folder "out" may remain, empty: it existed before).
+  void expectRow(const std::string& id, const std::string& app,
+                 const std::vector<std::string>& args) {
+    SCOPED_TRACE("catalogue row " + id);
+    std::filesystem::create_directories(dir_.path() / "out");
+    const std::vector<std::string> before = tree();
+    const CommandResult r = test::run(dir_, kBin + "/" + app, args);
+    auto it = catalogue().find(id);
+    ASSERT_NE(it, catalogue().end())
+        << "row " << id << " is not in docs/errors.md; got " << r.exitCode << ": " << r.err;
+    const Row& row = it->second;
+    EXPECT_EQ(r.exitCode, row.exitCode) << r.err;
+    const std::vector<std::string> errLines = test::lines(r.err);
+    ASSERT_EQ(errLines.size(), 1u) << r.err;
+    EXPECT_EQ(errLines[0].rfind(app + ": error: ", 0), 0u) << errLines[0];
+    EXPECT_NE(errLines[0].find(row.message), std::string::npos)
+        << "expected '" << row.message << "' in: " << errLines[0];
+    EXPECT_EQ(tree(), before) << "files were left behind";
+  }
+
+  // Writes `stream` as x.3dvo and runs the decoder on it against row `id`.
+  void expectStreamRow(const std::string& id, const std::vector<uint8_t>& stream) {
+    test::writeBytes(dir_.file("x.3dvo"), stream);
+    expectRow(id, "3dvo-dec", {"-i", "x.3dvo", "-o", "out"});
+  }
+  void expectUnitsRow(const std::string& id, const std::vector<Unit>& units) {
+    expectStreamRow(id, join(units));
+  }
+
+  // Writes frames in/000.obj ... (the OBJ text of `frame0` first) and runs the encoder with
+  // `extra` arguments (which come last) against row `id`.
+  void expectObjRow(const std::string& id, const std::string& frame0, int frames = 1,
+                    const std::vector<std::string>& extra = {}) {
+    writeInput(frame0, frames);
+    std::vector<std::string> args = encoderArgs(frames);
+    args.insert(args.end(), extra.begin(), extra.end());
+    expectRow(id, "3dvo-enc", args);
+  }
+
+  void writeInput(const std::string& frame0, int frames) {
+    std::filesystem::create_directories(dir_.path() / "in");
+    const std::vector<Mesh> good = test::wobblingSphere(1, frames);
+    for (int f = 0; f < frames; ++f) {
+      char name[32];
+      std::snprintf(name, sizeof name, "in/%03d.obj", f);
+      test::writeText(dir_.file(name), f == 0 && !frame0.empty() ? frame0 : formatObj(good[f]));
+    }
+  }
+
+  static std::vector<std::string> encoderArgs(int frames) {
+    return {"--InputMeshPattern=in/%03d.obj", "--FrameCount=" + std::to_string(frames),
+            "--GridBits=10", "-o", "out/x.3dvo"};
+  }
+
+  void expectCfgRow(const std::string& id, const std::string& cfg,
+                    const std::vector<std::string>& extra = {}) {
+    writeInput("", 1);
+    test::writeText(dir_.file("x.cfg"), cfg);
+    std::vector<std::string> args = encoderArgs(1);
+    args.push_back("-c");
+    args.push_back("x.cfg");
+    args.insert(args.end(), extra.begin(), extra.end());
+    expectRow(id, "3dvo-enc", args);
+  }
+
+  TempDir dir_{"errors"};
+};
+
+TEST(Catalogue, EveryRowHasATestAndEveryTestARow) {
+  ASSERT_GT(catalogue().size(), 50u) << "docs/errors.md was not read";
+  for (const auto& [id, row] : catalogue()) {
+    EXPECT_TRUE(testedRows().count(id)) << "row " << id << " has no test";
+    EXPECT_FALSE(row.message.empty()) << id;
+  }
+  for (const std::string& id : testedRows())
+    EXPECT_TRUE(catalogue().count(id)) << "test " << id << " has no row in docs/errors.md";
+}
+
+TEST(Catalogue, BaseStreamDecodes) {
+  const std::vector<uint8_t>& s = baseStream();
+  StreamDecoder decoder(s.data(), s.size(), "base");
+  int frames = 0;
+  decoder.decode([&](int, const IntMesh&) { ++frames; });
+  EXPECT_EQ(frames, kFrames);
+  const std::vector<Unit> units = baseUnits();
+  ASSERT_EQ(units.size(), 9u);
+  const uint8_t expected[9] = {1, 2, 3, 4, 4, 2, 3, 4, 4};
+  for (size_t i = 0; i < units.size(); ++i)
+    EXPECT_EQ(units[i].type, expected[i]) << i;
+}
+
+// ---- Stream container ----
+
+CATALOGUE_TEST(S01) {
+  expectRow("S01", "3dvo-dec", {"-i", "x.3dvo", "-o", "out"});
+}
+
+CATALOGUE_TEST(S02) {
+  expectStreamRow("S02", {});
+  expectStreamRow("S02", {'3', 'D', 'V'});
+  const std::string obj = "v 0 0 0\n";
+  expectStreamRow("S02", std::vector<uint8_t>(obj.begin(), obj.end()));
+}
+
+CATALOGUE_TEST(S03) {
+  expectStreamRow("S03", {'3', 'D', 'V', 'O'});
+}
+
+CATALOGUE_TEST(S04) {
+  // A cut at every unit boundary after the sequence header.
+  const std::vector<uint8_t>& s = baseStream();
+  const std::vector<size_t> offsets = unitOffsets(s);
+  for (size_t i = 1; i < offsets.size(); ++i)
+    expectStreamRow("S04", std::vector<uint8_t>(s.begin(), s.begin() + offsets[i]));
+}
+
+CATALOGUE_TEST(S05) {
+  const std::vector<uint8_t>& s = baseStream();
+  for (size_t offset : unitOffsets(s))
+    for (size_t keep : {size_t{1}, size_t{4}})
+      expectStreamRow("S05", std::vector<uint8_t>(s.begin(), s.begin() + offset + keep));
+  std::vector<uint8_t> extra = s;
+  extra.push_back(2);
+  expectStreamRow("S05", extra);
+}
+
+CATALOGUE_TEST(S06) {
+  const std::vector<uint8_t>& s = baseStream();
+  const std::vector<size_t> offsets = unitOffsets(s);
+  for (size_t i = 0; i < offsets.size(); ++i) {
+    const size_t end = i + 1 < offsets.size() ? offsets[i + 1] : s.size();
+    for (size_t cut : {offsets[i] + kUnitHeaderSize, (offsets[i] + end) / 2, end - 1})
+      expectStreamRow("S06", std::vector<uint8_t>(s.begin(), s.begin() + cut));
+  }
+}
+
+CATALOGUE_TEST(S07) {
+  std::vector<uint8_t> s = baseStream();
+  const std::vector<size_t> offsets = unitOffsets(s);
+  s[offsets[2] - 1] ^= 0x01;  // the CRC of unit 1
+  expectStreamRow("S07", s);
+}
+
+CATALOGUE_TEST(S08) {
+  // One flipped bit in the type, payload or CRC of each unit (the bit moves along): the CRC
+  // catches every one. Flips in unit_size are rows S06 and S09.
+  const std::vector<uint8_t>& s = baseStream();
+  const std::vector<size_t> offsets = unitOffsets(s);
+  for (size_t i = 0; i < offsets.size(); ++i) {
+    const size_t end = i + 1 < offsets.size() ? offsets[i + 1] : s.size();
+    for (size_t at : {offsets[i], offsets[i] + kUnitHeaderSize, (offsets[i] + end) / 2, end - 1}) {
+      std::vector<uint8_t> bad = s;
+      bad[at] ^= static_cast<uint8_t>(1u << (at % 8));
+      expectStreamRow("S08", bad);
+    }
+  }
+}
+
+CATALOGUE_TEST(S09) {
+  std::vector<uint8_t> s = baseStream();
+  s[4 + 4] = 0x40;  // unit 0's unit_size becomes 0x4000002F > 2^30
+  expectStreamRow("S09", s);
+}
+
+CATALOGUE_TEST(S10) {
+  std::vector<Unit> units = baseUnits();
+  units[0].type = 9;
+  expectUnitsRow("S10", units);
+}
+
+CATALOGUE_TEST(S11) {
+  for (uint8_t type : {uint8_t{0}, uint8_t{200}, uint8_t{255}}) {
+    std::vector<Unit> units = baseUnits();
+    units[1].type = type;
+    expectUnitsRow("S11", units);
+  }
+}
+
+CATALOGUE_TEST(S12) {
+  std::vector<Unit> units = baseUnits();
+  units.push_back(units[5]);
+  expectUnitsRow("S12", units);
+}
+
+// ---- Sequence header ----
+
+CATALOGUE_TEST(H01) {
+  for (uint16_t version : {uint16_t{0}, uint16_t{2}, uint16_t{65535}}) {
+    std::vector<Unit> units = baseUnits();
+    putU16(units[0].payload, kShVersion, version);
+    expectUnitsRow("H01", units);
+  }
+}
+
+CATALOGUE_TEST(H02) {
+  std::vector<Unit> units = baseUnits();
+  putU32(units[0].payload, kShFrameCount, 0);
+  expectUnitsRow("H02", units);
+}
+
+CATALOGUE_TEST(H03) {
+  std::vector<Unit> units = baseUnits();
+  putU32(units[0].payload, kShFrameCount, 0xFFFFFFFF);  // -1 as a 32-bit integer
+  expectUnitsRow("H03", units);
+}
+
+CATALOGUE_TEST(H04) {
+  for (double rate : {0.0, -25.0, 1001.0, std::nan(""), HUGE_VAL}) {
+    std::vector<Unit> units = baseUnits();
+    putF64(units[0].payload, kShFrameRate, rate);
+    expectUnitsRow("H04", units);
+  }
+}
+
+CATALOGUE_TEST(H05) {
+  for (uint8_t bits : {uint8_t{0}, uint8_t{7}, uint8_t{21}, uint8_t{255}}) {
+    std::vector<Unit> units = baseUnits();
+    units[0].payload[kShGridBits] = bits;
+    expectUnitsRow("H05", units);
+  }
+}
+
+CATALOGUE_TEST(H06) {
+  for (double step : {0.0, -1.0, std::nan(""), HUGE_VAL}) {
+    std::vector<Unit> units = baseUnits();
+    putF64(units[0].payload, kShStep, step);
+    expectUnitsRow("H06", units);
+  }
+}
+
+CATALOGUE_TEST(H07) {
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<Unit> units = baseUnits();
+    putF64(units[0].payload, kShOrigin + 8 * axis, axis == 1 ? -HUGE_VAL : std::nan(""));
+    expectUnitsRow("H07", units);
+  }
+}
+
+CATALOGUE_TEST(H08) {
+  std::vector<Unit> units = baseUnits();
+  units[0].payload.resize(kShStep + 4);
+  expectUnitsRow("H08", units);
+}
+
+CATALOGUE_TEST(H09) {
+  std::vector<Unit> units = baseUnits();
+  units[0].payload.clear();
+  expectUnitsRow("H09", units);
+}
+
+CATALOGUE_TEST(H10) {
+  std::vector<Unit> units = baseUnits();
+  units[0].payload.push_back(0);
+  expectUnitsRow("H10", units);
+}
+
+// ---- GOM header ----
+
+CATALOGUE_TEST(G01) {
+  std::vector<Unit> units = baseUnits();
+  putU32(units[1].payload, kGhFirstFrame, 1);
+  expectUnitsRow("G01", units);
+  units = baseUnits();
+  putU32(units[5].payload, kGhFirstFrame, 2);  // the second GOM overlaps the first
+  expectUnitsRow("G01", units);
+}
+
+CATALOGUE_TEST(G02) {
+  std::vector<Unit> units = baseUnits();
+  putU32(units[0].payload, kShFrameCount, 5);  // the second GOM (frames 3-5) runs past it
+  expectUnitsRow("G02", units);
+}
+
+CATALOGUE_TEST(G03) {
+  std::vector<Unit> units = baseUnits();
+  putU16(units[1].payload, kGhFrameCount, 0);
+  expectUnitsRow("G03", units);
+}
+
+CATALOGUE_TEST(G04) {
+  std::vector<Unit> units = baseUnits();
+  units[1].payload[kGhMode] = 3;
+  expectUnitsRow("G04", units);
+}
+
+CATALOGUE_TEST(G05) {
+  std::vector<Unit> units = baseUnits();
+  putU16(units[1].payload, kGhQuantStep, 0);
+  expectUnitsRow("G05", units);
+  units = baseUnits();
+  putU16(units[1].payload, kGhQuantStep, 4097);
+  expectUnitsRow("G05", units);
+}
+
+CATALOGUE_TEST(G06) {
+  std::vector<Unit> units = baseUnits();
+  units[1].payload[kGhDepth] = 11;  // <= 20, but deeper than the 10-bit grid
+  expectUnitsRow("G06", units);
+}
+
+CATALOGUE_TEST(G07) {
+  std::vector<Unit> units = baseUnits();
+  units[1].payload[kGhDepth] = 21;
+  expectUnitsRow("G07", units);
+}
+
+CATALOGUE_TEST(G08) {
+  for (uint16_t count : {uint16_t{0}, uint16_t{1}, uint16_t{4}}) {
+    std::vector<Unit> units = baseUnits();
+    putU16(units[1].payload, kGhNumKeyframes, count);
+    expectUnitsRow("G08", units);
+  }
+}
+
+CATALOGUE_TEST(G09) {
+  std::vector<Unit> units = baseUnits();
+  putU16(units[1].payload, kGhDelta, 0);
+  expectUnitsRow("G09", units);
+  units = baseUnits();
+  putU16(units[1].payload, kGhDelta, 2);  // leaves no room for the third keyframe
+  expectUnitsRow("G09", units);
+}
+
+CATALOGUE_TEST(G10) {
+  // Two keyframes (offsets 0 and 1) in a GOM of 3 frames: the last is not the last frame.
+  std::vector<Unit> units = baseUnits();
+  std::vector<uint8_t>& gh = units[1].payload;
+  putU16(gh, kGhNumKeyframes, 2);
+  putU16(gh, kGhDelta, 1);
+  gh.resize(kGhDelta + 2);
+  expectUnitsRow("G10", units);
+}
+
+CATALOGUE_TEST(G11) {
+  std::vector<Unit> units = baseUnits();
+  units.erase(units.begin() + 5);  // the second GOM header: its I mesh comes instead
+  expectUnitsRow("G11", units);
+}
+
+// ---- I mesh ----
+
+CATALOGUE_TEST(I01) {
+  std::vector<Unit> units = baseUnits();
+  putU32(units[2].payload, 0, 4);
+  expectUnitsRow("I01", units);
+  units = baseUnits();
+  putU32(units[6].payload, 0, 5);
+  expectUnitsRow("I01", units);
+}
+
+CATALOGUE_TEST(I02) {
+  std::vector<Unit> units = baseUnits();
+  units.erase(units.begin() + 2);  // the P mesh of frame 1 comes where the I mesh belongs
+  expectUnitsRow("I02", units);
+}
+
+CATALOGUE_TEST(I03) {
+  std::vector<Unit> units = baseUnits();
+  units[2].payload.resize(2);
+  expectUnitsRow("I03", units);
+}
+
+CATALOGUE_TEST(I04) {
+  for (const std::vector<uint8_t>& draco :
+       {std::vector<uint8_t>{}, std::vector<uint8_t>{'D', 'R', 'A'},
+        std::vector<uint8_t>{'d', 'r', 'a', 'c', 'o', 2, 2, 1, 1, 0, 0}}) {
+    std::vector<Unit> units = baseUnits();
+    units[2].payload = iMeshUnitPayload(0, draco);
+    expectUnitsRow("I04", units);
+  }
+}
+
+CATALOGUE_TEST(I05) {
+  std::vector<uint8_t> draco = dracoPayload();
+  draco[6] = 1;  // bitstream version 2.1
+  std::vector<Unit> units = baseUnits();
+  units[2].payload = iMeshUnitPayload(0, draco);
+  expectUnitsRow("I05", units);
+}
+
+CATALOGUE_TEST(I06) {
+  std::vector<Unit> units = baseUnits();
+  units[2].payload = iMeshUnitPayload(0, dracoTriangle(draco::DT_INT32, false));
+  expectUnitsRow("I06", units);
+}
+
+CATALOGUE_TEST(I07) {
+  std::vector<uint8_t> draco = dracoPayload();
+  draco[10] |= 0x80;  // flags: metadata present
+  std::vector<Unit> units = baseUnits();
+  units[2].payload = iMeshUnitPayload(0, draco);
+  expectUnitsRow("I07", units);
+}
+
+CATALOGUE_TEST(I08) {
+  // The counts Draco 1.5.5 would allocate for before failing (16 GB at 2^30 vertices and
+  // 7e8 faces; docs/robustness.md): rejected before Draco sees them.
+  std::vector<Unit> units = baseUnits();
+  units[2].payload = iMeshUnitPayload(0, dracoWithCounts(1u << 30, 700000000, 699999999));
+  expectUnitsRow("I08", units);
+}
+
+CATALOGUE_TEST(I09) {
+  std::vector<Unit> units = baseUnits();
+  units[2].payload = iMeshUnitPayload(0, dracoWithCounts(100, 700000000, 699999999));
+  expectUnitsRow("I09", units);
+}
+
+CATALOGUE_TEST(I10) {
+  std::vector<Unit> units = baseUnits();
+  units[2].payload = iMeshUnitPayload(0, dracoWithCounts(100, 200, 201));
+  expectUnitsRow("I10", units);
+}
+
+CATALOGUE_TEST(I11) {
+  std::vector<uint8_t> draco = dracoPayload();
+  draco.resize(draco.size() / 2);
+  std::vector<Unit> units = baseUnits();
+  units[2].payload = iMeshUnitPayload(0, draco);
+  expectUnitsRow("I11", units);
+}
+
+CATALOGUE_TEST(I12) {
+  std::vector<Unit> units = baseUnits();
+  units[2].payload = iMeshUnitPayload(0, dracoTriangle(draco::DT_FLOAT32, true));
+  expectUnitsRow("I12", units);
+}
+
+CATALOGUE_TEST(I13) {
+  // The stream's grid shrinks to 8 bits (and GOM 0's octree with it): the I mesh's 10-bit
+  // coordinates fall outside.
+  std::vector<Unit> units = baseUnits();
+  units[0].payload[kShGridBits] = 8;
+  units[1].payload[kGhDepth] = 8;
+  expectUnitsRow("I13", units);
+}
+
+CATALOGUE_TEST(I14) {
+  // Five triangles on edge 0-1 (sequential Draco coding keeps them): 5 x 4 = 20 pairs of
+  // triangles on a shared edge, more than 3 x 5. Thousands of them would make gigabytes of wings.
+  draco::Mesh m;
+  m.set_num_points(7);
+  for (int i = 0; i < 5; ++i)
+    m.AddFace({draco::PointIndex(0), draco::PointIndex(1), draco::PointIndex(i + 2)});
+  draco::GeometryAttribute attribute;
+  attribute.Init(draco::GeometryAttribute::POSITION, nullptr, 3, draco::DT_INT32, false, 12, 0);
+  const int id = m.AddAttribute(attribute, true, 7);
+  for (int i = 0; i < 7; ++i) {
+    const int32_t p[3] = {10 * i, i == 1 ? 50 : 0, i > 1 ? 20 * i : 0};
+    m.attribute(id)->SetAttributeValue(draco::AttributeValueIndex(i), p);
+  }
+  draco::Encoder encoder;
+  encoder.SetEncodingMethod(draco::MESH_SEQUENTIAL_ENCODING);
+  draco::EncoderBuffer buffer;
+  ASSERT_TRUE(encoder.EncodeMeshToBuffer(m, &buffer).ok());
+  std::vector<Unit> units = baseUnits();
+  units[2].payload =
+      iMeshUnitPayload(0, std::vector<uint8_t>(buffer.data(), buffer.data() + buffer.size()));
+  expectUnitsRow("I14", units);
+}
+
+// ---- P mesh ----
+
+CATALOGUE_TEST(P01) {
+  std::vector<Unit> units = baseUnits();
+  putU32(units[3].payload, 0, 2);
+  expectUnitsRow("P01", units);
+}
+
+CATALOGUE_TEST(P02) {
+  std::vector<Unit> units = baseUnits();
+  units[3] = units[2];  // an I mesh where the P mesh of frame 1 belongs
+  expectUnitsRow("P02", units);
+  units = baseUnits();
+  units.erase(units.begin() + 4);  // GOM 1's header where frame 2's P mesh belongs
+  expectUnitsRow("P02", units);
+}
+
+CATALOGUE_TEST(P03) {
+  std::vector<Unit> units = baseUnits();
+  units[3].payload.resize(2);
+  expectUnitsRow("P03", units);
+}
+
+CATALOGUE_TEST(P04) {
+  std::vector<Unit> units = baseUnits();
+  units[3].payload.resize(4);  // pm_frame only
+  expectUnitsRow("P04", units);
+}
+
+CATALOGUE_TEST(P05) {
+  std::vector<Unit> units = baseUnits();
+  units[3].payload.push_back(0);
+  units[3].payload.push_back(0);
+  expectUnitsRow("P05", units);
+}
+
+CATALOGUE_TEST(P06) {
+  std::vector<Unit> units = afxicUnits();
+  std::vector<uint8_t> payload(4, 0);
+  putU32(payload, 0, 1);
+  const std::vector<uint8_t> cabac = afxicResidualPayload((1 << 21) + 1);
+  payload.insert(payload.end(), cabac.begin(), cabac.end());
+  units[3].payload = payload;
+  expectUnitsRow("P06", units);
+}
+
+CATALOGUE_TEST(P07) {
+  // Residual 1000 is in range, but times the quantiser step 4096 the motion is not.
+  std::vector<Unit> units = afxicUnits();
+  putU16(units[1].payload, kGhQuantStep, 4096);
+  std::vector<uint8_t> payload(4, 0);
+  putU32(payload, 0, 1);
+  const std::vector<uint8_t> cabac = afxicResidualPayload(1000);
+  payload.insert(payload.end(), cabac.begin(), cabac.end());
+  units[3].payload = payload;
+  expectUnitsRow("P07", units);
+}
+
+CATALOGUE_TEST(P08) {
+  std::vector<Unit> units = baseUnits();
+  std::vector<uint8_t>& p = units[3].payload;
+  p.resize(4 + (p.size() - 4) / 2);
+  expectUnitsRow("P08", units);
+}
+
+// ---- 3dvo-dec options ----
+
+CATALOGUE_TEST(D01) {
+  expectRow("D01", "3dvo-dec", {"-o", "out"});
+}
+
+CATALOGUE_TEST(D02) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  std::string log;
+  for (int f = 0; f < kFrames; ++f)
+    log += "MD5 frame=" + std::to_string(f) + " geometry=00000000000000000000000000000000\n";
+  test::writeText(dir_.file("x.md5"), log);
+  expectRow("D02", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--verify", "x.md5"});
+}
+
+CATALOGUE_TEST(D03) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  test::writeText(dir_.file("x.md5"), "# no MD5 lines\n");
+  expectRow("D03", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--verify", "x.md5"});
+}
+
+CATALOGUE_TEST(D04) {
+  // A log with the right lines plus one more frame.
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  const CommandResult good = test::run(dir_, kBin + "/3dvo-dec", {"-i", "x.3dvo"});
+  ASSERT_EQ(good.exitCode, 0) << good.err;
+  std::string log;
+  for (const std::string& line : test::linesStartingWith(good.out, "MD5 "))
+    log += line + "\n";
+  log += "MD5 frame=6 geometry=00000000000000000000000000000000\n";
+  test::writeText(dir_.file("x.md5"), log);
+  expectRow("D04", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--verify", "x.md5"});
+}
+
+CATALOGUE_TEST(D05) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  test::writeText(dir_.file("file"), "in the way\n");
+  expectRow("D05", "3dvo-dec", {"-i", "x.3dvo", "-o", "file/out"});
+}
+
+// ---- OBJ input (3dvo-enc) ----
+
+const std::string kTriangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+
+CATALOGUE_TEST(O01) {
+  writeInput("", 1);
+  std::filesystem::remove(dir_.file("in/000.obj"));
+  expectRow("O01", "3dvo-enc", encoderArgs(1));
+}
+
+CATALOGUE_TEST(O02) {
+  expectObjRow("O02", "v 0 0 0\nv 0.3.1 0 0\n");
+}
+
+CATALOGUE_TEST(O03) {
+  for (const char* number : {"nan", "inf", "-inf", "1e301"})
+    expectObjRow("O03", kTriangle + "v 0 " + number + " 1\nf 1 2 3\n");
+}
+
+CATALOGUE_TEST(O04) {
+  expectObjRow("O04", kTriangle + "v 1 2\nf 1 2 3\n");
+}
+
+CATALOGUE_TEST(O05) {
+  expectObjRow("O05", kTriangle + "f 1 2\n");
+}
+
+CATALOGUE_TEST(O06) {
+  for (const char* index : {"0", "x", "1.5", "/2"})
+    expectObjRow("O06", kTriangle + "f 1 2 " + index + "\n");
+}
+
+CATALOGUE_TEST(O07) {
+  expectObjRow("O07", kTriangle + "f 1 2 3\nf 1 9 2\n");
+}
+
+CATALOGUE_TEST(O08) {
+  expectObjRow("O08", kTriangle + "f -5 1 2\n");
+}
+
+CATALOGUE_TEST(O09) {
+  expectObjRow("O09", kTriangle + "f 1 2 3\nl 1 2\n");
+}
+
+CATALOGUE_TEST(O10) {
+  expectObjRow("O10", kTriangle);
+}
+
+CATALOGUE_TEST(O11) {
+  expectObjRow("O11", "# nothing\n");
+}
+
+CATALOGUE_TEST(O12) {
+  writeInput("", 1);
+  test::writeText(dir_.file("in/000.obj"), std::string("\x1f\x8b\x08\x00garbage", 11));
+  expectRow("O12", "3dvo-enc", encoderArgs(1));
+}
+
+CATALOGUE_TEST(O13) {
+  expectObjRow("O13", kTriangle + "f 1 2 2\n");
+}
+
+CATALOGUE_TEST(O14) {
+  // Frame 1 of a d3dmc GOM has other vertices than frame 0.
+  writeInput("", 2);
+  test::writeText(dir_.file("in/001.obj"), kTriangle + "f 1 2 3\n");
+  std::vector<std::string> args = encoderArgs(2);
+  args.push_back("--PMeshMode=d3dmc");
+  expectRow("O14", "3dvo-enc", args);
+}
+
+CATALOGUE_TEST(O15) {
+  // Same vertex count, other triangles.
+  writeInput("", 2);
+  Mesh m = test::wobblingSphere(1, 2)[1];
+  std::swap(m.triangles[0], m.triangles[1]);
+  test::writeText(dir_.file("in/001.obj"), formatObj(m));
+  std::vector<std::string> args = encoderArgs(2);
+  args.push_back("--PMeshMode=d3dmc");
+  expectRow("O15", "3dvo-enc", args);
+}
+
+// ---- cfg and options (3dvo-enc) ----
+
+CATALOGUE_TEST(C01) {
+  writeInput("", 1);
+  std::vector<std::string> args = encoderArgs(1);
+  args.push_back("-c");
+  args.push_back("missing.cfg");
+  expectRow("C01", "3dvo-enc", args);
+}
+
+CATALOGUE_TEST(C02) {
+  expectCfgRow("C02", "GridBits : 10\n\nGridBitz : 10\n");
+}
+
+CATALOGUE_TEST(C03) {
+  expectCfgRow("C03", "GridBits 10\n");
+}
+
+CATALOGUE_TEST(C04) {
+  expectCfgRow("C04", " : 10\n");
+}
+
+CATALOGUE_TEST(C05) {
+  expectCfgRow("C05", "GridBits : 30\n");
+}
+
+CATALOGUE_TEST(C06) {
+  expectCfgRow("C06", "GridBits : -1\n");
+}
+
+CATALOGUE_TEST(C07) {
+  for (const char* value : {"ten", "", "10.5", "0x10", "99999999999999999999"})
+    expectCfgRow("C07", std::string("GOMSize : ") + value + "\n");
+}
+
+CATALOGUE_TEST(C08) {
+  for (const char* value : {"fast", "nan", "1e999", ""})
+    expectCfgRow("C08", std::string("Lambda : ") + value + "\n");
+}
+
+CATALOGUE_TEST(C09) {
+  expectCfgRow("C09", "PMeshMode : p\n");
+}
+
+CATALOGUE_TEST(C10) {
+  writeInput("", 1);
+  std::vector<std::string> args = encoderArgs(1);
+  args.push_back("-c");
+  expectRow("C10", "3dvo-enc", args);
+}
+
+CATALOGUE_TEST(C11) {
+  writeInput("", 1);
+  std::vector<std::string> args = encoderArgs(1);
+  args.push_back("--GridBits");
+  expectRow("C11", "3dvo-enc", args);
+}
+
+CATALOGUE_TEST(C12) {
+  writeInput("", 1);
+  std::vector<std::string> args = encoderArgs(1);
+  args.push_back("GridBits=10");
+  expectRow("C12", "3dvo-enc", args);
+}
+
+CATALOGUE_TEST(C13) {
+  writeInput("", 1);
+  expectRow("C13", "3dvo-enc", {"-o", "out/x.3dvo"});
+}
+
+CATALOGUE_TEST(C14) {
+  writeInput("", 1);
+  expectRow("C14", "3dvo-enc", {"--InputMeshPattern=in/%03d.obj"});
+}
+
+CATALOGUE_TEST(C15) {
+  expectCfgRow("C15", "InputMeshPattern : in/000.obj\n");
+}
+
+CATALOGUE_TEST(C16) {
+  expectCfgRow("C16", "InputMeshPattern : in/%03d-%d.obj\n");
+}
+
+CATALOGUE_TEST(C17) {
+  for (const char* pattern : {"in/%s.obj", "in/%x", "in/%-3d.obj", "in/%", "in/%999d"})
+    expectCfgRow("C17", std::string("InputMeshPattern : ") + pattern + "\n");
+}
+
+CATALOGUE_TEST(C18) {
+  expectCfgRow("C18", "PMeshMode : d3dmc\nKeyframeCount : 2\nKeyframeMaxError : 1\n");
+}
+
+CATALOGUE_TEST(C19) {
+  expectCfgRow("C19", "PMeshMode : intra\nKeyframeCount : 2\n");
+}
+
+CATALOGUE_TEST(C20) {
+  expectCfgRow("C20", "", {"-o", "no-such-folder/x.3dvo"});
+}
+
+// ---- Calibration (dataset.json) and images (3dvo-import) ----
+
+// A valid dataset x/dataset.json: one 8 x 6 camera, one frame x/cam/0000.png. Each row's input
+// replaces `from` by `to` in its text.
+class DatasetRows : public ErrorsTest {
+ protected:
+  static std::string datasetText() {
+    return R"({"format": "3dvo-dataset", "version": 1, "frames": {"count": 1},
+ "cameras": [{"name": "cam", "width": 8, "height": 6, "fx": 10, "fy": 10, "cx": 3.5, "cy": 2.5,
+   "R": [[1, 0, 0], [0, 1, 0], [0, 0, 1]], "t": [0, 0, 5], "images": "cam/%04d.png"}]}
+)";
+  }
+  void writeDataset(const std::string& from = "", const std::string& to = "") {
+    std::filesystem::create_directories(dir_.path() / "x" / "cam");
+    std::string text = datasetText();
+    if (!from.empty()) {
+      const size_t at = text.find(from);
+      ASSERT_NE(at, std::string::npos) << from;
+      text.replace(at, from.size(), to);
+    }
+    test::writeText(dir_.file("x/dataset.json"), text);
+    test::writeBytes(dir_.file("x/cam/0000.png"), encodePng(Image(8, 6, 3, 128)));
+  }
+  void expectDatasetRow(const std::string& id, const std::string& from = "",
+                        const std::string& to = "") {
+    writeDataset(from, to);
+    expectRow(id, "3dvo-import", {"-i", "x/dataset.json", "--Format=dataset", "-o", "out"});
+  }
+};
+
+#define DATASET_TEST(ID)                                   \
+  [[maybe_unused]] const bool kRow##ID = registerRow(#ID); \
+  TEST_F(DatasetRows, ID)
+
+TEST_F(DatasetRows, TheValidDatasetImports) {
+  writeDataset();
+  const CommandResult r = test::run(dir_, kBin + "/3dvo-import",
+                                    {"-i", "x/dataset.json", "--Format=dataset", "-o", "out"});
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+}
+
+DATASET_TEST(J01) {
+  expectRow("J01", "3dvo-import", {"-i", "x/dataset.json", "--Format=dataset", "-o", "out"});
+}
+
+DATASET_TEST(J02) {
+  expectDatasetRow("J02", "\"frames\"", "\"frames\" {");
+  expectDatasetRow("J02", "[[1", "[[1e999");  // a number beyond double
+}
+
+DATASET_TEST(J03) {
+  expectDatasetRow("J03", "3dvo-dataset", "3dvo-datasets");
+}
+
+DATASET_TEST(J04) {
+  expectDatasetRow("J04", "\"version\": 1", "\"version\": 2");
+}
+
+DATASET_TEST(J05) {
+  expectDatasetRow("J05", "\"t\": [0, 0, 5], ", "");
+}
+
+DATASET_TEST(J06) {
+  expectDatasetRow("J06", "\"name\"", "\"colour\": 1, \"name\"");
+}
+
+DATASET_TEST(J07) {
+  for (const char* fx : {"\"ten\"", "null", "[10]"})
+    expectDatasetRow("J07", "\"fx\": 10", std::string("\"fx\": ") + fx);
+}
+
+DATASET_TEST(J08) {
+  for (const char* width : {"0", "-8", "32768", "8.5"})
+    expectDatasetRow("J08", "\"width\": 8", std::string("\"width\": ") + width);
+}
+
+DATASET_TEST(J09) {
+  expectDatasetRow("J09", "\"count\": 1", "\"count\": 0");
+}
+
+DATASET_TEST(J10) {
+  for (const char* fx : {"0", "-10"})
+    expectDatasetRow("J10", "\"fx\": 10", std::string("\"fx\": ") + fx);
+}
+
+DATASET_TEST(J11) {
+  for (const char* r : {"[[2, 0, 0], [0, 1, 0], [0, 0, 1]]", "[[1, 0, 0], [0, 1, 0], [0, 0, -1]]"})
+    expectDatasetRow("J11", "[[1, 0, 0], [0, 1, 0], [0, 0, 1]]", r);
+}
+
+DATASET_TEST(J12) {
+  expectDatasetRow("J12", "[[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "[[1, 0, 0], [0, 1, 0]]");
+}
+
+DATASET_TEST(J13) {
+  expectDatasetRow("J13", "\"images\": \"cam/%04d.png\"",
+                   "\"images\": \"cam/%04d.png\", \"video\": \"cam.mp4\"");
+  expectDatasetRow("J13", ", \"images\": \"cam/%04d.png\"", "");
+}
+
+DATASET_TEST(J14) {
+  expectDatasetRow("J14", "}]}",
+                   "}, {\"name\": \"cam\", \"width\": 8, \"height\": 6, "
+                   "\"fx\": 10, \"fy\": 10, \"cx\": 3.5, \"cy\": 2.5, \"R\": "
+                   "[[1, 0, 0], [0, 1, 0], [0, 0, 1]], \"t\": [0, 0, 5], "
+                   "\"images\": \"cam/%04d.png\"}]}");
+}
+
+DATASET_TEST(J15) {
+  expectDatasetRow("J15", "cam/%04d.png", "cam/%s.png");
+}
+
+DATASET_TEST(J16) {
+  writeDataset();
+  std::filesystem::remove(dir_.file("x/cam/0000.png"));
+  expectRow("J16", "3dvo-import", {"-i", "x/dataset.json", "--Format=dataset", "-o", "out"});
+}
+
+DATASET_TEST(J17) {
+  writeDataset();
+  test::writeText(dir_.file("x/cam/0000.png"), "P6 8 6 255\n");
+  expectRow("J17", "3dvo-import", {"-i", "x/dataset.json", "--Format=dataset", "-o", "out"});
+}
+
+DATASET_TEST(J18) {
+  writeDataset();
+  test::writeBytes(dir_.file("x/cam/0000.png"), encodePng(Image(9, 6, 3, 128)));
+  expectRow("J18", "3dvo-import", {"-i", "x/dataset.json", "--Format=dataset", "-o", "out"});
+}
+
+// PNG decoding itself (the images a texture encoder reads), at library level: decodePng throws
+// the Error that an app turns into its error line and exit code 1.
+std::string pngErrorOf(const std::vector<uint8_t>& bytes) {
+  try {
+    decodePng(bytes, "x.png");
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+[[maybe_unused]] const bool kRowJ19 = registerRow("J19");
+TEST(ImageRows, J19) {
+  const std::vector<uint8_t> png = encodePng(Image(16, 16, 3, 7));
+  const std::vector<uint8_t> cut(png.begin(), png.end() - 20);
+  const std::string e = pngErrorOf(cut);
+  EXPECT_NE(e.find(catalogue().at("J19").message), std::string::npos) << e;
+}
+
+[[maybe_unused]] const bool kRowJ20 = registerRow("J20");
+TEST(ImageRows, J20) {
+  const std::string e = pngErrorOf(test::readBytes(
+      std::string(TDVO_SOURCE_DIR) + "/fuzz/regressions/png/ihdr-32767x32767-in-69-bytes.png"));
+  EXPECT_NE(e.find(catalogue().at("J20").message), std::string::npos) << e;
+}
+
+// ---- Exhaustive variants, at library level ----
+
+// The Error message of decoding `stream`; "" when it decodes.
+std::string decodeError(const std::vector<uint8_t>& stream) {
+  try {
+    StreamDecoder decoder(stream.data(), stream.size(), "x.3dvo");
+    decoder.decode([](int, const IntMesh&) {});
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool containsAny(const std::string& s, const std::vector<std::string>& parts) {
+  for (const std::string& p : parts)
+    if (s.find(p) != std::string::npos) return true;
+  return false;
+}
+
+TEST(ErrorsExhaustive, EveryTruncationIsRejected) {
+  const std::vector<uint8_t>& s = baseStream();
+  for (size_t length = 0; length < s.size(); ++length) {
+    const std::string e = decodeError(std::vector<uint8_t>(s.begin(), s.begin() + length));
+    EXPECT_TRUE(containsAny(e, {"not a 3DVO stream", "truncated"})) << length << ": " << e;
+  }
+}
+
+TEST(ErrorsExhaustive, AFlippedBitInEveryByteIsRejected) {
+  const std::vector<uint8_t>& s = baseStream();
+  const std::vector<size_t> offsets = unitOffsets(s);
+  for (size_t at = 0; at < s.size(); ++at) {
+    std::vector<uint8_t> bad = s;
+    bad[at] ^= static_cast<uint8_t>(1u << (at % 8));
+    const std::string e = decodeError(bad);
+    bool inSize = false;
+    for (size_t o : offsets)
+      inSize = inSize || (at > o && at < o + kUnitHeaderSize);
+    if (at < 4)
+      EXPECT_NE(e.find("not a 3DVO stream"), std::string::npos) << at << ": " << e;
+    else if (inSize)
+      EXPECT_TRUE(containsAny(e, {"CRC mismatch", "runs past the end", "exceeds the 1 GiB"}))
+          << at << ": " << e;
+    else
+      EXPECT_NE(e.find("CRC mismatch"), std::string::npos) << at << ": " << e;
+  }
+}
+
+// Every Draco speed the encoder offers writes what the decoder's pre-check of Draco's header
+// accepts (the encoder decodes its own payload with decodeIMesh, which runs the check).
+TEST(ErrorsExhaustive, DracoCountCheckAcceptsEveryEncoderSpeed) {
+  const Mesh mesh = test::wobblingSphere(2, 1)[0];
+  const Grid grid = gridForSequence({mesh}, 12);
+  for (int speed = 0; speed <= 10; ++speed) {
+    SCOPED_TRACE(speed);
+    const IMeshEncoding e = encodeIMesh(grid.quantise(mesh), 12, speed);
+    EXPECT_EQ(e.decoded.positions.size(), mesh.positions.size());
+  }
+}
+
+}  // namespace
+}  // namespace tdvo

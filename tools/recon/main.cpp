@@ -1,0 +1,26 @@
+// 3dvo-recon: multi-camera images or video to a time-consistent mesh sequence in GOMs, the
+// content-creation side of 3DVO (docs/reconstruction.md).
+//
+//   3dvo-recon -c cfg/recon/dino.cfg
+//   3dvo-recon -i DATASET -o OUT [--OctreeDepth=8] [--Key=value ...]
+//   3dvo-recon --InputMeshPattern=seq/%04d.obj --FrameCount=10 -o OUT   (tracking only)
+#include <cstdio>
+
+#include "common/app.h"
+#include "common/config.h"
+#include "tools/recon/recon_pipeline.h"
+
+int main(int argc, char** argv) {
+  return tdvo::runApp("3dvo-recon", [&]() {
+    tdvo::ReconParams params;
+    tdvo::OptionTable table("3dvo-recon",
+                            "3dvo-recon [-c recon.cfg] -i INPUT -o DIR [--Key=value ...]");
+    tdvo::addReconOptions(table, params);
+    if (!table.parseCommandLine(argc, argv)) return 0;
+    tdvo::checkReconParams(params);
+    std::printf("# 3dvo-recon effective configuration\n%s", table.effectiveConfig().c_str());
+    std::fflush(stdout);
+    tdvo::runReconstruction(params, stdout);
+    return 0;
+  });
+}

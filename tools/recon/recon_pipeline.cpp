@@ -1,0 +1,380 @@
+#include "tools/recon/recon_pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdarg>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+#include "common/dataset.h"
+#include "common/error.h"
+#include "common/file_io.h"
+#include "common/metrics.h"
+#include "common/obj_io.h"
+#include "common/progress.h"
+#include "common/rasteriser.h"
+#include "common/sequence.h"
+#include "tools/multiview/importers.h"
+#include "tools/recon/gom_builder.h"
+#include "tools/recon/reconstruction.h"
+#include "tools/recon/silhouettes.h"
+#include "tools/recon/surface_processing.h"
+
+namespace tdvo {
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
+std::string format(const char* fmt, ...) {
+  char buffer[1024];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(buffer, sizeof buffer, fmt, args);
+  va_end(args);
+  return buffer;
+}
+
+const char* kColumns =
+    "frame,source,gom,type,silhouette_s,carving_s,surface_s,smoothing_s,decimation_s,"
+    "tracking_s,metrics_s,total_s,octree_cells,surface_voxels,hull_triangles,components,"
+    "vertices,triangles,voxel,hull_volume,iou_mean,iou_min,fit_hausdorff,fit_mean,diagonal,"
+    "truth_mean,truth_hausdorff,truth_diagonal";
+
+std::string csvRow(const FrameRecord& r) {
+  return format(
+      "%d,%d,%d,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%zu,%zu,%zu,%zu,%zu,%.6g,%.6g,"
+      "%.5f,%.5f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g",
+      r.frame, r.source, r.gom, r.iMesh ? (r.rejectedFit ? "I*" : "I") : "P", r.silhouetteSeconds,
+      r.carvingSeconds, r.surfaceSeconds, r.smoothingSeconds, r.decimationSeconds,
+      r.trackingSeconds, r.metricSeconds, r.totalSeconds, r.cellsJudged, r.surfaceVoxels,
+      r.hullTriangles, r.components, r.vertices, r.triangles, r.voxelSize, r.hullVolume, r.iouMean,
+      r.iouMin, r.fitHausdorff, r.fitMean, r.diagonal, r.truthMean, r.truthHausdorff,
+      r.truthDiagonal);
+}
+
+std::string encoderCfg(const std::string& pattern, int first, int count, double rate, int gomSize,
+                       const std::string& comment) {
+  std::string text = comment;
+  text += "InputMeshPattern : " + pattern + "\n";
+  text += format("FirstFrame       : %d\n", first);
+  text += format("FrameCount       : %d\n", count);
+  text += format("FrameRate        : %.17g\n", rate);
+  if (gomSize > 0) text += format("GOMSize          : %d\n", gomSize);
+  return text;
+}
+
+struct Summary {
+  double mean = 0, min = 1e300, max = -1e300;
+  size_t count = 0;
+  void add(double v) {
+    if (v < 0) return;
+    mean += v;
+    min = std::min(min, v);
+    max = std::max(max, v);
+    ++count;
+  }
+  std::string text(const char* fmt) const {
+    if (count == 0) return "(not measured)";
+    return "mean " + format(fmt, mean / double(count)) + ", min " + format(fmt, min) + ", max " +
+           format(fmt, max);
+  }
+};
+
+std::string reportText(const ReconParams& params, const ReconResult& result,
+                       const std::string& inputText, const std::string& cameraText) {
+  std::string t = "# 3dvo-recon report\n";
+  t += "input          : " + inputText + "\n";
+  if (!cameraText.empty()) t += "cameras        : " + cameraText + "\n";
+  if (params.inputMeshPattern.empty()) t += format("octree depth   : %d\n", params.octreeDepth);
+  t += format("frames         : %zu\n", result.frames.size());
+  std::string lengths;
+  for (const auto& g : result.goms)
+    lengths += (lengths.empty() ? "" : " ") + std::to_string(g.second);
+  t += format("GOMs           : %zu (frames per GOM: %s)\n", result.goms.size(), lengths.c_str());
+  Summary total, sil, carve, surf, smooth, decim, track, metric, iou, iouMin, volume, fitRel,
+      fitMean, truthMean, truthH, vertices, triangles;
+  for (const FrameRecord& r : result.frames) {
+    total.add(r.totalSeconds);
+    sil.add(r.silhouetteSeconds);
+    carve.add(r.carvingSeconds);
+    surf.add(r.surfaceSeconds);
+    smooth.add(r.smoothingSeconds);
+    decim.add(r.decimationSeconds);
+    track.add(r.trackingSeconds);
+    metric.add(r.metricSeconds);
+    iou.add(r.iouMean);
+    iouMin.add(r.iouMin);
+    volume.add(r.hullVolume);
+    if (r.diagonal > 0) fitRel.add(r.fitHausdorff / r.diagonal);
+    fitMean.add(r.fitMean);
+    truthMean.add(r.truthMean);
+    truthH.add(r.truthHausdorff);
+    vertices.add(static_cast<double>(r.vertices));
+    triangles.add(static_cast<double>(r.triangles));
+  }
+  t += "# each figure below: mean, min and max over the frames\n";
+  t += "time per frame : " + total.text("%.3f s") + "\n";
+  const std::pair<const char*, const Summary*> stages[] = {
+      {"  silhouettes  : ", &sil},    {"  carving      : ", &carve}, {"  surface      : ", &surf},
+      {"  smoothing    : ", &smooth}, {"  decimation   : ", &decim}, {"  tracking     : ", &track},
+      {"  metrics      : ", &metric}};
+  for (const auto& [label, stage] : stages)
+    if (stage->max > 0) t += label + stage->text("%.3f s") + "\n";
+  t += "vertices       : " + vertices.text("%.0f") + "\n";
+  t += "triangles      : " + triangles.text("%.0f") + "\n";
+  if (iou.count > 0) {
+    t += "silhouette IoU : views' mean " + iou.text("%.4f") + "\n";
+    t += "                 worst view " + iouMin.text("%.4f") + "\n";
+    t += "hull volume    : " + volume.text("%.6g") + "\n";
+  }
+  t += "fit error      : Hausdorff / diagonal " + fitRel.text("%.5f") + "\n";
+  t += "                 mean distance " + fitMean.text("%.6g") + "\n";
+  if (truthMean.count > 0) {
+    t += "ground truth   : mean distance " + truthMean.text("%.6g") + "\n";
+    t += "                 Hausdorff " + truthH.text("%.6g") + "\n";
+  }
+  t += "\n# per frame (type I: first frame of a GOM, I*: after a rejected fit, P: tracked)\n";
+  t += kColumns;
+  t += "\n";
+  for (const FrameRecord& r : result.frames)
+    t += csvRow(r) + "\n";
+  return t;
+}
+
+// Mesh input: the frames of an OBJ sequence.
+struct MeshInput {
+  std::string pattern;
+  int first;
+  Mesh read(int index, bool weld) const {
+    Mesh m = readObj(framePath(pattern, first + index));
+    if (weld) weldVertices(m);
+    return m;
+  }
+};
+
+}  // namespace
+
+std::string formatGomList(const std::vector<std::pair<int, int>>& goms) {
+  std::string text =
+      "# 3dvo-recon GOM list: one GOM per line, <first frame> <frame count>, frames numbered "
+      "as the output OBJ files\n";
+  for (const auto& g : goms)
+    text += std::to_string(g.first) + " " + std::to_string(g.second) + "\n";
+  return text;
+}
+
+std::vector<std::pair<int, int>> parseGomList(const std::string& text, const std::string& name) {
+  std::vector<std::pair<int, int>> goms;
+  std::istringstream in(text);
+  std::string line;
+  int lineNumber = 0, next = 0;
+  while (std::getline(in, line)) {
+    ++lineNumber;
+    const size_t hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    std::istringstream fields(line);
+    long long first, count;
+    std::string extra;
+    if (!(fields >> first)) {
+      check(line.find_first_not_of(" \t\r") == std::string::npos,
+            name + ":" + std::to_string(lineNumber) + ": expected '<first frame> <frame count>'");
+      continue;
+    }
+    check(static_cast<bool>(fields >> count) && !(fields >> extra),
+          name + ":" + std::to_string(lineNumber) + ": expected '<first frame> <frame count>'");
+    check(first == next, name + ":" + std::to_string(lineNumber) + ": GOM starts at frame " +
+                             std::to_string(first) + ", expected " + std::to_string(next));
+    check(count >= 1 && count <= 65535,
+          name + ":" + std::to_string(lineNumber) + ": frame count must be in 1 .. 65535");
+    goms.emplace_back(static_cast<int>(first), static_cast<int>(count));
+    next = static_cast<int>(first + count);
+  }
+  check(!goms.empty(), name + ": no GOM listed");
+  return goms;
+}
+
+ReconResult runReconstruction(const ReconParams& params, std::FILE* log) {
+  checkReconParams(params);
+  ReconResult result;
+
+  // Input.
+  std::unique_ptr<Dataset> dataset;
+  std::unique_ptr<FrameReconstructor> reconstructor;
+  MeshInput meshes{params.inputMeshPattern, params.firstFrame};
+  int frameCount = params.frameCount;
+  std::string inputText, cameraText;
+  if (!params.input.empty()) {
+    dataset = std::make_unique<Dataset>(importAny(params.input, ImportOptions()));
+    check(params.firstFrame < dataset->frameCount,
+          "FirstFrame " + std::to_string(params.firstFrame) + " is beyond the dataset's " +
+              std::to_string(dataset->frameCount) + " frames");
+    if (frameCount == 0) frameCount = dataset->frameCount - params.firstFrame;
+    check(params.firstFrame + frameCount <= dataset->frameCount,
+          "FirstFrame + FrameCount exceeds the dataset's " + std::to_string(dataset->frameCount) +
+              " frames");
+    reconstructor = std::make_unique<FrameReconstructor>(*dataset, params);
+    inputText = params.input +
+                format(" (frames %d .. %d)", params.firstFrame, params.firstFrame + frameCount - 1);
+    for (size_t u = 0; u < reconstructor->cameras().size(); ++u) {
+      const std::string name = dataset->cameras[reconstructor->cameras()[u]].camera.name;
+      result.cameras.push_back(name);
+      cameraText += (cameraText.empty() ? "" : ", ") + name + " (" +
+                    reconstructor->silhouetteMethodName(u) + ")";
+    }
+    cameraText = format("%zu, min views %d: ", result.cameras.size(), reconstructor->minViews()) +
+                 cameraText;
+  } else {
+    inputText = params.inputMeshPattern +
+                format(" (files %d .. %d)", params.firstFrame, params.firstFrame + frameCount - 1);
+  }
+  const double frameRate = dataset ? dataset->frameRate : 25.0;
+
+  // Output folders; files are staged and renamed together at the end.
+  namespace fs = std::filesystem;
+  const std::string out = params.output;
+  makeDirectories(out);
+  makeDirectories(out + "/encode");
+  if (params.writeHull) makeDirectories(out + "/hull");
+  if (params.writeSilhouettes)
+    for (const std::string& name : result.cameras)
+      makeDirectories(out + "/silhouettes/" + name);
+  StagedFiles files;
+
+  GomBuilder builder(params);
+  Progress progress("3dvo-recon: frame", static_cast<size_t>(frameCount));
+  for (int i = 0; i < frameCount; ++i) {
+    const auto frameStart = std::chrono::steady_clock::now();
+    FrameRecord record;
+    record.frame = i;
+    record.source = params.firstFrame + i;
+    Mesh surface;
+    ReconstructedFrame recon;
+    if (reconstructor) {
+      recon = reconstructor->reconstruct(params.firstFrame + i);
+      record.silhouetteSeconds = recon.silhouetteSeconds;
+      record.carvingSeconds = recon.stats.carvingSeconds;
+      record.surfaceSeconds = recon.stats.surfaceSeconds;
+      record.smoothingSeconds = recon.smoothingSeconds;
+      record.cellsJudged = recon.stats.cellsJudged;
+      record.surfaceVoxels = recon.stats.surfaceVoxels;
+      record.hullTriangles = recon.hull.triangles.size();
+      record.components = recon.components;
+      record.voxelSize = recon.stats.voxelSize;
+      record.hullVolume = enclosedVolume(recon.hull);
+      surface = std::move(recon.surface);
+    } else {
+      surface = meshes.read(i, params.weldInput);
+    }
+
+    GomStep step = builder.add(surface, record.voxelSize > 0 ? record.voxelSize : 0);
+    record.gom = step.gom;
+    record.iMesh = step.iMesh;
+    record.rejectedFit = step.rejectedFit;
+    record.decimationSeconds = step.decimationSeconds;
+    record.trackingSeconds = step.trackingSeconds;
+    record.fitHausdorff = step.fitHausdorff;
+    record.fitMean = step.fitMean;
+    record.diagonal = step.diagonal;
+    record.vertices = step.mesh.positions.size();
+    record.triangles = step.mesh.triangles.size();
+    record.metricSeconds = step.distanceSeconds;
+
+    // Silhouette agreement and ground truth.
+    const auto metricStart = std::chrono::steady_clock::now();
+    if (reconstructor) {
+      std::vector<double> ious;
+      for (size_t u = 0; u < reconstructor->cameras().size(); ++u) {
+        const Camera& camera = dataset->cameras[reconstructor->cameras()[u]].camera;
+        ious.push_back(maskIoU(renderMask(step.mesh, camera), recon.silhouettes[u]));
+      }
+      record.iouMin = *std::min_element(ious.begin(), ious.end());
+      double sum = 0;
+      for (double v : ious)
+        sum += v;
+      record.iouMean = sum / double(ious.size());
+      result.iou.push_back(ious);
+      if (!dataset->meshes.empty()) {
+        const Mesh truth = readDatasetMesh(*dataset, params.firstFrame + i);
+        const SurfaceDistance d = surfaceDistance(truth, step.mesh);
+        BoundingBox box;
+        box.extend(truth.positions);
+        record.truthMean = d.mean();
+        record.truthHausdorff = d.hausdorff();
+        record.truthDiagonal = box.diagonal();
+      }
+    }
+    record.metricSeconds += secondsSince(metricStart);
+
+    // Output files.
+    const std::string text = formatObj(step.mesh);
+    files.write(out + "/" + framePath(params.outputMeshPattern, i), text);
+    if (params.writeHull)
+      files.write(out + "/" + framePath("hull/%04d.obj", i), formatObj(recon.hull));
+    if (params.writeSilhouettes)
+      for (size_t u = 0; u < result.cameras.size(); ++u) {
+        const std::vector<uint8_t> png = encodePng(recon.silhouettes[u]);
+        files.write(out + "/silhouettes/" + result.cameras[u] + "/" + framePath("%04d.png", i),
+                    png.data(), png.size());
+      }
+    record.totalSeconds = secondsSince(frameStart);
+    result.frames.push_back(record);
+    if (log) {
+      std::string line = format("frame %4d  gom %3d %-2s  v %6zu  f %6zu", i, record.gom,
+                                record.iMesh ? (record.rejectedFit ? "I*" : "I") : "P",
+                                record.vertices, record.triangles);
+      if (record.iouMean >= 0)
+        line += format("  IoU %.4f (worst %.4f)  volume %.6g", record.iouMean, record.iouMin,
+                       record.hullVolume);
+      line += format("  fit %.3f%%",
+                     record.diagonal > 0 ? 100 * record.fitHausdorff / record.diagonal : 0.0);
+      if (record.truthMean >= 0) line += format("  truth mean %.5g", record.truthMean);
+      line += format("  %.2f s\n", record.totalSeconds);
+      std::fputs(line.c_str(), log);
+      std::fflush(log);
+    }
+    progress.tick(static_cast<size_t>(i + 1));
+  }
+  result.goms = builder.goms();
+
+  // GOM list, encoder cfg files, reports.
+  const std::string pattern = fs::absolute(fs::path(out) / params.outputMeshPattern).string();
+  files.write(out + "/goms.txt", formatGomList(result.goms));
+  int commonSize = result.goms.front().second;
+  bool uniform = true;
+  for (size_t g = 0; g + 1 < result.goms.size(); ++g)
+    uniform = uniform && result.goms[g].second == commonSize;
+  if (result.goms.size() > 1 && result.goms.back().second > commonSize) uniform = false;
+  const std::string header =
+      "# 3dvo-enc input for this 3dvo-recon output, e.g.\n"
+      "#   3dvo-enc -c cfg/d3dmc-lossless.cfg -c encode.cfg --BitstreamFile=out.3dvo\n";
+  files.write(out + "/encode.cfg",
+              encoderCfg(pattern, 0, frameCount, frameRate, uniform ? commonSize : 0,
+                         header + (uniform ? ""
+                                           : "# The GOMs differ in length (goms.txt): code "
+                                             "them one by one with encode/gom_NNNN.cfg.\n")));
+  for (size_t g = 0; g < result.goms.size(); ++g)
+    files.write(out + "/encode/" + framePath("gom_%04d.cfg", static_cast<int>(g)),
+                encoderCfg(pattern, result.goms[g].first, result.goms[g].second, frameRate,
+                           result.goms[g].second,
+                           format("# 3dvo-enc input for GOM %zu of this 3dvo-recon output\n", g)));
+  std::string csv = std::string(kColumns) + "\n";
+  for (const FrameRecord& r : result.frames)
+    csv += csvRow(r) + "\n";
+  files.write(out + "/frames.csv", csv);
+  const std::string report = reportText(params, result, inputText, cameraText);
+  files.write(out + "/report.txt", report);
+  files.commit();
+  if (log) {
+    const size_t cut = report.find("\n# per frame");
+    std::fputs(report.substr(0, cut).c_str(), log);
+    std::fputs("\n", log);
+  }
+  return result;
+}
+
+}  // namespace tdvo

@@ -1,0 +1,125 @@
+#include "tools/render/leave_one_out.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "common/file_io.h"
+#include "common/image.h"
+#include "common/progress.h"
+
+namespace tdvo {
+
+std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const std::vector<int>& frames,
+                                        const RenderOptions& options,
+                                        const std::string& renderFolder) {
+  const size_t n = dataset.cameras.size();
+  std::vector<LeaveOneOutRow> rows(n);
+  for (size_t i = 0; i < n; ++i)
+    rows[i].camera = dataset.cameras[i].camera.name;
+  std::vector<CameraFrames> cameraFrames;
+  for (size_t i = 0; i < n; ++i)
+    cameraFrames.emplace_back(dataset, i);
+  StagedFiles files;
+  Progress progress("3dvo-render: leave-one-out", frames.size() * n);
+  size_t done = 0;
+  for (int frame : frames) {
+    const FrameViews views = loadFrameViews(dataset, cameraFrames, frame);
+    for (size_t h = 0; h < n; ++h) {
+      std::vector<bool> others(n, true);
+      others[h] = false;
+      const Camera& camera = views.cameras[h];
+      Image sources;
+      const Image heldOut = renderView(views, camera, options, others, nullptr, &sources);
+      const Image ownPose = renderView(views, camera, options);
+      Image mask = views.masks[h];
+      if (mask.empty()) {  // no silhouette: compare where the mesh is drawn
+        mask = Image(camera.width, camera.height, 1);
+        for (size_t p = 0; p < mask.pixels.size(); ++p)
+          mask.pixels[p] = ownPose.pixels[4 * p + 3];
+      }
+      LeaveOneOutRow& row = rows[h];
+      const SquaredError e = maskedSquaredError(heldOut, views.images[h], mask);
+      row.heldOut += e;
+      row.ownPose += maskedSquaredError(ownPose, views.images[h], mask);
+      row.maskPixels += e.count / 3;
+      for (size_t p = 0; p < mask.pixels.size(); ++p)
+        if (mask.pixels[p] != 0 &&
+            (sources.pixels[p] == kSourceNearest || sources.pixels[p] == kSourceColour))
+          ++row.fallbackPixels;
+      if (!renderFolder.empty()) {
+        char name[32];
+        std::snprintf(name, sizeof name, "%04d.png", frame);
+        const std::string folder = (std::filesystem::path(renderFolder) / camera.name).string();
+        makeDirectories(folder);
+        const std::vector<uint8_t> png = encodePng(heldOut);
+        files.write((std::filesystem::path(folder) / name).string(), png.data(), png.size());
+      }
+      progress.tick(++done);
+    }
+  }
+  files.commit();
+  return rows;
+}
+
+namespace {
+
+std::string psnrText(double psnr) {
+  if (std::isinf(psnr)) return "inf";
+  if (std::isnan(psnr)) return "-";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.2f", psnr);
+  return buffer;
+}
+
+double fallbackPercent(const LeaveOneOutRow& r) {
+  return r.maskPixels ? 100.0 * double(r.fallbackPixels) / double(r.maskPixels) : 0;
+}
+
+LeaveOneOutRow pooled(const std::vector<LeaveOneOutRow>& rows) {
+  LeaveOneOutRow all;
+  all.camera = "all";
+  for (const LeaveOneOutRow& r : rows) {
+    all.maskPixels += r.maskPixels;
+    all.heldOut += r.heldOut;
+    all.ownPose += r.ownPose;
+    all.fallbackPixels += r.fallbackPixels;
+  }
+  return all;
+}
+
+}  // namespace
+
+std::string formatLeaveOneOutTable(const std::vector<LeaveOneOutRow>& rows) {
+  std::string out =
+      "| held-out camera | mask pixels | PSNR from the other cameras (dB) | PSNR at own pose, all "
+      "cameras (dB) | fallback pixels (%) |\n|---|---:|---:|---:|---:|\n";
+  std::vector<LeaveOneOutRow> all = rows;
+  all.push_back(pooled(rows));
+  for (const LeaveOneOutRow& r : all) {
+    char line[512];
+    const bool total = &r == &all.back();
+    std::snprintf(line, sizeof line, "| %s%s%s | %zu | %s | %s | %.2f |\n", total ? "**" : "",
+                  r.camera.c_str(), total ? "**" : "", r.maskPixels,
+                  psnrText(r.heldOut.psnr()).c_str(), psnrText(r.ownPose.psnr()).c_str(),
+                  fallbackPercent(r));
+    out += line;
+  }
+  return out;
+}
+
+std::string formatLeaveOneOutCsv(const std::vector<LeaveOneOutRow>& rows) {
+  std::string out = "camera,mask_pixels,psnr_leave_one_out,psnr_own_pose,fallback_percent\n";
+  std::vector<LeaveOneOutRow> all = rows;
+  all.push_back(pooled(rows));
+  for (const LeaveOneOutRow& r : all) {
+    char line[512];
+    std::snprintf(line, sizeof line, "%s,%zu,%s,%s,%.4f\n", r.camera.c_str(), r.maskPixels,
+                  psnrText(r.heldOut.psnr()).c_str(), psnrText(r.ownPose.psnr()).c_str(),
+                  fallbackPercent(r));
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace tdvo

@@ -1,0 +1,36 @@
+// Rendering quality by leaving one camera out: each held-out camera's viewpoint is rendered from
+// the other cameras only and compared with that camera's real image, inside its mask; the same
+// viewpoint rendered with all cameras (the camera's own texture included) is the sanity check.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "common/dataset.h"
+#include "tools/render/view_renderer.h"
+
+namespace tdvo {
+
+struct LeaveOneOutRow {
+  std::string camera;
+  size_t maskPixels = 0;      // pixels compared, over all frames
+  SquaredError heldOut;       // rendered from the other cameras
+  SquaredError ownPose;       // rendered from all cameras
+  size_t fallbackPixels = 0;  // mask pixels no other camera sees (fallback colours)
+};
+
+// Evaluates every camera of `dataset` (frame indices `frames`) as held-out camera. The PSNR
+// mask is the camera's silhouette (mask files or alpha) when it has one, else the pixels the
+// rendered mesh covers. When `renderFolder` is not empty the held-out renders are written there
+// as <camera>/<frame index %04d>.png. Progress on stderr when it is a terminal.
+std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const std::vector<int>& frames,
+                                        const RenderOptions& options,
+                                        const std::string& renderFolder = "");
+
+// A Markdown table: camera, pixels, leave-one-out PSNR, own-pose PSNR, % of the mask pixels
+// that fell back (no other camera sees them), and a last row pooling every camera.
+std::string formatLeaveOneOutTable(const std::vector<LeaveOneOutRow>& rows);
+// The same as CSV (camera,mask_pixels,psnr_leave_one_out,psnr_own_pose,fallback_percent).
+std::string formatLeaveOneOutCsv(const std::vector<LeaveOneOutRow>& rows);
+
+}  // namespace tdvo

@@ -1,0 +1,290 @@
+// 3dvo-render: view-dependent rendering of a dataset-layout folder (a dataset, or a decoded 3DVO)
+// from virtual cameras; leave-one-out quality; export for the web player. docs/rendering.md.
+//
+//   3dvo-render -i DATA -o out/                          orbit of 36 views, PNG sequence
+//   3dvo-render -i DATA -o out/ --Mp4=orbit.mp4          ... and an MP4
+//   3dvo-render -i DATA -o out/ --Path=camera --Camera=cam03     every frame from cam03's pose
+//   3dvo-render -i DATA --Mode=leave-one-out             PSNR table on stdout
+//   3dvo-render -i DATA --Mode=export -o player/data/x   data for tools/player
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+#include "common/app.h"
+#include "common/config.h"
+#include "common/error.h"
+#include "common/file_io.h"
+#include "common/progress.h"
+#include "common/sequence.h"
+#include "tools/multiview/importers.h"
+#include "tools/render/camera_path.h"
+#include "tools/render/leave_one_out.h"
+#include "tools/render/mp4_writer.h"
+#include "tools/render/player_export.h"
+#include "tools/render/view_renderer.h"
+
+using namespace tdvo;
+namespace fs = std::filesystem;
+
+namespace {
+
+enum class Mode { render, leaveOneOut, exportPlayer };
+enum class PathKind { orbit, poses, camera };
+
+struct Params {
+  std::string input, cameras;
+  int cameraStep = 1, firstFrame = 0, frameCount = 0;
+  Mode mode = Mode::render;
+  RenderOptions render;
+  std::string fallbackColour = "128,128,128", background = "0,0,0";
+  PathKind path = PathKind::orbit;
+  std::string camera, poses, orbitElevation = "auto";
+  int orbitSteps = 36, frame = -1, width = 0, height = 0;
+  double orbitDistance = 0, orbitTurns = 1, fieldOfView = 0;
+  std::string output, outputPattern = "%04d.png", mp4, csv, gomStarts;
+  int crf = 18;
+  bool saveRenders = false;
+
+  void registerOptions(OptionTable& t) {
+    t.section("Input");
+    t.add("Input", input, "dataset folder or dataset.json (a dataset or a decoded 3DVO)", "-i");
+    t.add("Cameras", cameras,
+          "comma-separated camera names to use (empty: all); the other cameras are ignored");
+    t.add("CameraStep", cameraStep, 1, 100000, "use every n-th of those cameras");
+    t.add("FirstFrame", firstFrame, 0, 1 << 30, "first frame index to use");
+    t.add("FrameCount", frameCount, 0, 1 << 30, "frames to use (0: to the end)");
+    t.section("Mode");
+    t.addEnum("Mode", mode,
+              {{"render", Mode::render},
+               {"leave-one-out", Mode::leaveOneOut},
+               {"export", Mode::exportPlayer}},
+              "render a camera path; leave-one-out PSNR per camera; export for the web player");
+    t.section("Weights and visibility");
+    t.addEnum("ViewDirection", render.direction,
+              {{"axis", ViewDirection::axis}, {"ray", ViewDirection::ray}},
+              "directions whose angle makes the weights: the optical axes (axis, as in the "
+              "source paper) or, per surface point, the directions to the camera centres (ray)");
+    t.add("Sharpness", render.sharpness, 0.01, 1000,
+          "k in w_i ~ (1 - cos theta_i)^(-k/2): larger favours the nearest camera more");
+    t.add("DepthTolerance", render.depthTolerance, 0, 10,
+          "relative depth tolerance of the visibility test (0.01: 1 % of the depth)");
+    t.addEnum("Fallback", render.fallback,
+              {{"nearest", Fallback::nearest}, {"colour", Fallback::colour}},
+              "where no camera sees a point: the nearest camera ignoring depth, or the flat "
+              "FallbackColour");
+    t.add("FallbackColour", fallbackColour, "flat fallback colour r,g,b");
+    t.add("Background", background, "colour r,g,b of pixels the mesh does not cover (alpha 0)");
+    t.section("Camera path (Mode=render)");
+    t.addEnum(
+        "Path", path,
+        {{"orbit", PathKind::orbit}, {"poses", PathKind::poses}, {"camera", PathKind::camera}},
+        "an orbit around the object, poses from a file, or one dataset camera's pose for "
+        "every frame");
+    t.add("Camera", camera, "Path=camera: the camera's name");
+    t.add("Poses", poses,
+          "Path=poses: text file of 'eye target [up]' lines, or a dataset.json whose cameras are "
+          "the poses");
+    t.add("OrbitSteps", orbitSteps, 1, 1000000, "Path=orbit: number of views");
+    t.add("OrbitElevation", orbitElevation,
+          "Path=orbit: degrees above the object's centre, or 'auto' (the cameras' mean)");
+    t.add("OrbitDistance", orbitDistance, 0, 1e12,
+          "Path=orbit: distance from the centre (0: the cameras' mean)");
+    t.add("OrbitTurns", orbitTurns, -1000, 1000, "Path=orbit: full turns over the views");
+    t.add("Frame", frame, -1, 1 << 30,
+          "frame index to show on every view of an orbit or pose list (-1: advance one frame per "
+          "view, looping)");
+    t.add("Width", width, 0, 16384, "virtual image width (0: camera 0's)");
+    t.add("Height", height, 0, 16384, "virtual image height (0: camera 0's)");
+    t.add("FieldOfView", fieldOfView, 0, 170,
+          "virtual horizontal field of view, degrees (0: camera 0's focal length)");
+    t.section("Output");
+    t.add("Output", output,
+          "folder for the PNG sequence (render), the held-out renders (leave-one-out, with "
+          "SaveRenders) or the player data (export)",
+          "-o");
+    t.add("OutputPattern", outputPattern, "PNG file name pattern inside Output");
+    t.add("Mp4", mp4, "Mode=render: also write this H.264 MP4 file");
+    t.add("Crf", crf, 0, 51, "x264 constant rate factor of the MP4");
+    t.add("Csv", csv, "Mode=leave-one-out: also write the table as CSV");
+    t.add("SaveRenders", saveRenders, "Mode=leave-one-out: write the held-out renders to Output");
+    t.add("GomStarts", gomStarts,
+          "Mode=export: file of GOM start frame indices (default: gom_starts.txt beside "
+          "dataset.json when present, else every frame)");
+  }
+};
+
+std::array<uint8_t, 3> parseColour(const std::string& text, const std::string& key) {
+  const Vec3d v = parseVector3(text, key);
+  std::array<uint8_t, 3> c{};
+  for (size_t i = 0; i < 3; ++i) {
+    check(v[i] >= 0 && v[i] <= 255 && v[i] == std::floor(v[i]),
+          key + ": '" + text + "' must be three integers in 0..255");
+    c[i] = static_cast<uint8_t>(v[i]);
+  }
+  return c;
+}
+
+// The dataset restricted to the cameras named in `names` (all when empty), every `step`-th.
+Dataset selectCameras(Dataset d, const std::string& names, int step) {
+  if (!names.empty()) {
+    std::vector<DatasetCamera> chosen;
+    std::stringstream list(names);
+    std::string name;
+    while (std::getline(list, name, ','))
+      if (!name.empty()) chosen.push_back(d.cameras[d.cameraIndex(name)]);
+    d.cameras = chosen;
+  }
+  std::vector<DatasetCamera> kept;
+  for (size_t i = 0; i < d.cameras.size(); i += static_cast<size_t>(step))
+    kept.push_back(d.cameras[i]);
+  d.cameras = kept;
+  check(!d.cameras.empty(), "no cameras selected");
+  return d;
+}
+
+std::vector<int> selectFrames(const Dataset& d, int first, int count) {
+  check(first < d.frameCount, "FirstFrame " + std::to_string(first) + " is beyond the dataset's " +
+                                  std::to_string(d.frameCount) + " frames");
+  const int last = count > 0 ? first + count : d.frameCount;
+  check(last <= d.frameCount, "FirstFrame + FrameCount is beyond the dataset's " +
+                                  std::to_string(d.frameCount) + " frames");
+  std::vector<int> frames;
+  for (int f = first; f < last; ++f)
+    frames.push_back(f);
+  return frames;
+}
+
+void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames) {
+  check(!p.output.empty(), "no output folder given (-o DIR)");
+  checkFramePattern(p.outputPattern, "OutputPattern");
+  std::vector<CameraFrames> cameraFrames;
+  for (size_t i = 0; i < d.cameras.size(); ++i)
+    cameraFrames.emplace_back(d, i);
+
+  // The virtual cameras, and the frame shown on each.
+  std::vector<Camera> views;
+  std::vector<int> viewFrames;
+  const Camera intrinsics = virtualIntrinsics(d, p.width, p.height, p.fieldOfView);
+  if (p.path == PathKind::camera) {
+    check(!p.camera.empty(), "Path=camera needs --Camera=NAME");
+    const Camera c = d.cameras[d.cameraIndex(p.camera)].camera;
+    for (int f : frames) {
+      views.push_back(c);
+      viewFrames.push_back(f);
+    }
+  } else {
+    const Vec3d up = datasetUp(d);
+    if (p.path == PathKind::orbit) {
+      OrbitParams orbit;
+      orbit.steps = p.orbitSteps;
+      orbit.distance = p.orbitDistance;
+      orbit.turns = p.orbitTurns;
+      if (p.orbitElevation != "auto") {
+        char* end = nullptr;
+        const double e = std::strtod(p.orbitElevation.c_str(), &end);
+        check(end && *end == 0 && e >= -90 && e <= 90,
+              "OrbitElevation: '" + p.orbitElevation + "' must be 'auto' or degrees in -90..90");
+        orbit.elevation = e;
+      }
+      views = orbitPath(d, boundingBoxCentre(readDatasetMesh(d, frames.front())), up, intrinsics,
+                        orbit);
+    } else {
+      check(!p.poses.empty(), "Path=poses needs --Poses=FILE");
+      views = readPoses(p.poses, intrinsics, up);
+    }
+    if (p.frame >= 0)
+      check(p.frame < d.frameCount, "Frame " + std::to_string(p.frame) + " is beyond the " +
+                                        std::to_string(d.frameCount) + " frames");
+    for (size_t k = 0; k < views.size(); ++k)
+      viewFrames.push_back(p.frame >= 0 ? p.frame : frames[k % frames.size()]);
+  }
+
+  makeDirectories(p.output);
+  StagedFiles files;
+  std::unique_ptr<Mp4Writer> mp4;
+  std::optional<FrameViews> loaded;
+  int loadedFrame = -1;
+  RenderStats stats;
+  Progress progress("3dvo-render: rendering", views.size());
+  for (size_t k = 0; k < views.size(); ++k) {
+    if (viewFrames[k] != loadedFrame) {
+      loaded = loadFrameViews(d, cameraFrames, viewFrames[k]);
+      loadedFrame = viewFrames[k];
+    }
+    const Image image = renderView(*loaded, views[k], p.render, {}, &stats);
+    const std::vector<uint8_t> png = encodePng(image);
+    files.write((fs::path(p.output) / framePath(p.outputPattern, static_cast<int>(k))).string(),
+                png.data(), png.size());
+    if (!p.mp4.empty()) {
+      if (!mp4)
+        mp4 = std::make_unique<Mp4Writer>(p.mp4, image.width, image.height, d.frameRate, p.crf);
+      mp4->write(image);
+    }
+    progress.tick(k + 1);
+  }
+  if (mp4) mp4->finish();
+  files.commit();
+  const double covered = stats.covered ? double(stats.covered) : 1.0;
+  std::printf(
+      "3dvo-render: wrote %zu views to %s%s%s; of %zu object pixels %.2f %% blended, %.2f %% "
+      "nearest-camera fallback, %.2f %% flat fallback\n",
+      views.size(), p.output.c_str(), p.mp4.empty() ? "" : " and ", p.mp4.c_str(), stats.covered,
+      100.0 * stats.blended / covered, 100.0 * stats.fallbackNearest / covered,
+      100.0 * stats.fallbackColour / covered);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return runApp("3dvo-render", [&]() {
+    Params p;
+    OptionTable table("3dvo-render",
+                      "3dvo-render -i DATASET [-o OUT] [-c render.cfg] [--Key=value ...]");
+    p.registerOptions(table);
+    if (!table.parseCommandLine(argc, argv)) return 0;
+    check(!p.input.empty(), "no input dataset given (-i DATASET); see --help");
+    p.render.fallbackColour = parseColour(p.fallbackColour, "FallbackColour");
+    p.render.background = parseColour(p.background, "Background");
+    const Dataset full = readDataset(p.input);
+    const Dataset d = selectCameras(full, p.cameras, p.cameraStep);
+    check(!d.meshes.empty(), p.input + ": the dataset has no meshes; the renderer needs the " +
+                                 "object's surface (\"meshes\" in dataset.json)");
+    const std::vector<int> frames = selectFrames(d, p.firstFrame, p.frameCount);
+
+    if (p.mode == Mode::render) {
+      runRender(p, d, frames);
+    } else if (p.mode == Mode::leaveOneOut) {
+      check(d.cameras.size() >= 2, "leave-one-out needs at least two cameras");
+      check(!p.saveRenders || !p.output.empty(), "SaveRenders needs an output folder (-o DIR)");
+      const std::vector<LeaveOneOutRow> rows =
+          leaveOneOut(d, frames, p.render, p.saveRenders ? p.output : "");
+      std::fputs(formatLeaveOneOutTable(rows).c_str(), stdout);
+      if (!p.csv.empty()) writeFileAtomic(p.csv, formatLeaveOneOutCsv(rows));
+    } else {
+      PlayerExportParams e;
+      e.output = p.output;
+      e.frames = frames;
+      e.options = p.render;
+      std::string gomFile = p.gomStarts;
+      if (gomFile.empty()) {
+        const std::string beside = d.resolve("gom_starts.txt");
+        std::error_code ec;
+        if (fs::is_regular_file(beside, ec)) gomFile = beside;
+      }
+      if (!gomFile.empty()) {
+        for (int start : readGomStarts(gomFile))
+          for (size_t k = 0; k < frames.size(); ++k)
+            if (frames[k] == start) e.gomStarts.push_back(static_cast<int>(k));
+        if (e.gomStarts.empty() || e.gomStarts.front() != 0)
+          e.gomStarts.insert(e.gomStarts.begin(), 0);  // the first exported frame is a start
+      }
+      exportPlayerData(d, e);
+      std::printf("3dvo-render: exported %zu frames of %zu cameras to %s\n", frames.size(),
+                  d.cameras.size(), p.output.c_str());
+    }
+    return 0;
+  });
+}
