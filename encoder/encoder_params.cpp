@@ -59,7 +59,7 @@ void EncoderParams::registerOptions(OptionTable& t) {
             "pixels outside the object's shape: none = left as they are; mb128 = macroblocks "
             "the shape does not touch set to Y=Cb=Cr=128; extrapolate = mb128 plus MPEG-4-style "
             "repetitive padding inside the shape's boundary macroblocks");
-  t.add("TextureQP", textureQp, 0, 51, "H.264 constant QP (when TextureBitrate is 0)");
+  t.add("TextureQP", textureQp, 1, 51, "H.264 constant QP (when TextureBitrate is 0)");
   t.add("TextureBitrate", textureBitrate, 0, 1000000,
         "H.264 average bitrate per camera in kbit/s instead of a constant QP; 0 = off");
   t.add("TexturePreset", texturePreset, "x264 preset (ultrafast .. placebo)");
