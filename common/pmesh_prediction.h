@@ -58,6 +58,9 @@ inline int64_t roundDiv(int64_t num, int64_t den) {
 //   kp == 0         -> roundDiv(sN, k)                   (mean of neighbours)
 //   otherwise       -> roundDiv(kp * sN + k * sP, 2 k kp) (average of the mean of neighbours and
 //                                                          the mean parallelogram prediction)
+// codePMesh (pmesh_syntax.h), which encoder and decoder share, computes the same sums fused with
+// its context statistics over its own per-vertex records; this plain form serves the encoder's
+// rate estimate and the tests.
 Vec3i predictMotion(const GomTopology& topology, uint32_t v, const std::vector<Vec3i>& motion,
                     const std::vector<uint8_t>& available, const Vec3i& fallback);
 

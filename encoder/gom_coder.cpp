@@ -73,7 +73,7 @@ class GomCoder {
     if (!pMeshes) {
       for (size_t k = 0; k < count; ++k) {
         codeIMesh(k, inputs[k]);
-        emit(k, out_.iMeshes.back().decoded.positions, std::move(inputs[k].positions));
+        emit(out_.iMeshes.back().decoded.positions, std::move(inputs[k].positions));
       }
       return std::move(out_);
     }
@@ -82,7 +82,7 @@ class GomCoder {
     const IMeshEncoding& i = out_.iMeshes.back();
     const GomTopology topology =
         params_.pmeshMode == PMeshMode::kD3dmc ? GomTopology::build(i.decoded) : GomTopology();
-    emit(0, i.decoded.positions, std::move(inputs[0].positions));
+    emit(i.decoded.positions, std::move(inputs[0].positions));
     std::vector<Vec3i> previous = i.decoded.positions, target(i.inputIndex.size());
     for (size_t n = 1; n < gh.keyframes.size(); ++n) {
       const int a = gh.keyframes[n - 1], b = gh.keyframes[n];
@@ -91,8 +91,8 @@ class GomCoder {
         target[j] = inputs[b].positions[i.inputIndex[j]];
       std::vector<Vec3i> key = codePMesh(b, topology, previous, target);
       for (int f = a + 1; f < b; ++f)
-        emit(f, interpolateFrame(previous, key, a, b, f), std::move(inputs[f].positions));
-      emit(b, key, std::move(inputs[b].positions));
+        emit(interpolateFrame(previous, key, a, b, f), std::move(inputs[f].positions));
+      emit(key, std::move(inputs[b].positions));
       previous = std::move(key);
     }
     return std::move(out_);
@@ -165,8 +165,9 @@ class GomCoder {
     return std::move(p.reconstruction);
   }
 
-  // Frame k is final; `input` (its quantised input positions) is not needed here any more.
-  void emit(size_t, std::vector<Vec3i> positions, std::vector<Vec3i>&& input) {
+  // The next frame of the GOM is final; `input` (its quantised input positions) is not needed
+  // here any more.
+  void emit(std::vector<Vec3i> positions, std::vector<Vec3i>&& input) {
     out_.frames.push_back({std::move(positions), out_.iMeshes.size() - 1, std::move(input)});
   }
 
