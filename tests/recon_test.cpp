@@ -552,8 +552,8 @@ TEST(Silhouettes, BackgroundSubtractionTracksTheObjectAndIgnoresClutter) {
     Image f = background;
     for (uint8_t& v : f.pixels)
       v = static_cast<uint8_t>(std::clamp(v + noise(random), 0.0, 255.0));
-    for (int y = oy; y < oy + 30; ++y)
-      for (int x = ox; x < ox + 20; ++x)
+    for (int y = std::max(oy, 0); y < std::min(oy + 30, h); ++y)  // (-100, -100): no object
+      for (int x = std::max(ox, 0); x < std::min(ox + 20, w); ++x)
         for (int c = 0; c < 3; ++c)
           f.at(x, y, c) = static_cast<uint8_t>(220 - 30 * c);
     if (clutter)
