@@ -12,6 +12,14 @@
 
 namespace tdvo {
 
+// The bytes of one syntax structure (a unit payload), written by its transfer().
+template <class T>
+std::vector<uint8_t> serialise(T value) {
+  ByteWriter writer;
+  transfer(writer, value);
+  return writer.take();
+}
+
 // Bumped whenever the syntax or the decoding process changes; conformance streams are then
 // regenerated (conformance/README.md).
 constexpr uint16_t kSyntaxVersion = 1;
@@ -38,7 +46,7 @@ struct CameraParameters {
   double cam_k1 = 0, cam_k2 = 0, cam_p1 = 0, cam_p2 = 0, cam_k3 = 0;
   double cam_rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // world -> camera, row-major
   double cam_translation[3] = {0, 0, 0};
-  uint16_t tx_box_x = 0, tx_box_y = 0;           // multiples of 16
+  uint16_t tx_box_x = 0, tx_box_y = 0;             // multiples of 16
   uint16_t tx_box_width = 16, tx_box_height = 16;  // multiples of 16
 };
 
@@ -50,13 +58,19 @@ void transfer(Io& io, CameraParameters& c) {
                             &c.cam_k2, &c.cam_p1, &c.cam_p2, &c.cam_k3};
   static const char* const kNames[] = {"cam_fx", "cam_fy", "cam_cx", "cam_cy", "cam_k1",
                                        "cam_k2", "cam_p1", "cam_p2", "cam_k3"};
-  for (int i = 0; i < 9; ++i) io.f64(kNames[i], *values[i]);
-  for (double& r : c.cam_rotation) io.f64("cam_rotation", r);
-  for (double& t : c.cam_translation) io.f64("cam_translation", t);
+  for (int i = 0; i < 9; ++i)
+    io.f64(kNames[i], *values[i]);
+  for (double& r : c.cam_rotation)
+    io.f64("cam_rotation", r);
+  for (double& t : c.cam_translation)
+    io.f64("cam_translation", t);
   bool finite = true;
-  for (double* v : values) finite = finite && std::isfinite(*v);
-  for (double r : c.cam_rotation) finite = finite && std::isfinite(r);
-  for (double t : c.cam_translation) finite = finite && std::isfinite(t);
+  for (double* v : values)
+    finite = finite && std::isfinite(*v);
+  for (double r : c.cam_rotation)
+    finite = finite && std::isfinite(r);
+  for (double t : c.cam_translation)
+    finite = finite && std::isfinite(t);
   io.require(finite, "camera parameters must be finite");
   io.require(c.cam_fx > 0 && c.cam_fy > 0, "cam_fx and cam_fy must be positive");
   const uint32_t paddedWidth = (c.cam_width + 15u) / 16 * 16;
@@ -104,7 +118,8 @@ void transfer(Io& io, SequenceHeader& sh) {
   uint16_t numCameras = static_cast<uint16_t>(sh.cameras.size());
   io.u16("sh_num_cameras", numCameras, 0, kMaxCameras);
   if (Io::kReading) sh.cameras.resize(numCameras);
-  for (CameraParameters& c : sh.cameras) transfer(io, c);
+  for (CameraParameters& c : sh.cameras)
+    transfer(io, c);
 }
 
 constexpr uint16_t kMaxMotionQuantStep = 4096;

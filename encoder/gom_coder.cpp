@@ -16,13 +16,6 @@ namespace tdvo {
 
 namespace {
 
-template <class T>
-std::vector<uint8_t> serialise(T value) {
-  ByteWriter writer;
-  transfer(writer, value);
-  return writer.take();
-}
-
 class GomCoder {
  public:
   GomCoder(const EncoderParams& params, const Grid& grid, size_t first, std::vector<Mesh> frames,

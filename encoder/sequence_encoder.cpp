@@ -14,13 +14,6 @@ namespace tdvo {
 
 namespace {
 
-template <class T>
-std::vector<uint8_t> serialise(T value) {
-  ByteWriter writer;
-  transfer(writer, value);
-  return writer.take();
-}
-
 // Appends coded GOMs to the stream in GOM order and reports every reconstructed frame in frame
 // order (then the GOM's textures), exactly as if the GOMs had been coded one after the other.
 class GomWriter {

@@ -10,26 +10,16 @@
 
 namespace tdvo {
 
-namespace {
-
-template <class T>
-std::vector<uint8_t> serialise(T value) {
-  ByteWriter writer;
-  transfer(writer, value);
-  return writer.take();
-}
-
-}  // namespace
-
 std::vector<Mesh> readDatasetFrames(const Dataset& dataset, int firstFrame, int frameCount) {
-  check(!dataset.meshes.empty(), dataset.resolve(kDatasetFileName) +
-                                     ": the dataset has no meshes; set InputMeshPattern");
+  check(!dataset.meshes.empty(),
+        dataset.resolve(kDatasetFileName) + ": the dataset has no meshes; set InputMeshPattern");
   check(firstFrame + frameCount <= dataset.frameCount,
-        dataset.resolve(kDatasetFileName) + ": FirstFrame + FrameCount = " +
-            std::to_string(firstFrame + frameCount) + " but the dataset has " +
-            std::to_string(dataset.frameCount) + " frames");
+        dataset.resolve(kDatasetFileName) +
+            ": FirstFrame + FrameCount = " + std::to_string(firstFrame + frameCount) +
+            " but the dataset has " + std::to_string(dataset.frameCount) + " frames");
   std::vector<Mesh> frames;
-  for (int k = 0; k < frameCount; ++k) frames.push_back(readDatasetMesh(dataset, firstFrame + k));
+  for (int k = 0; k < frameCount; ++k)
+    frames.push_back(readDatasetMesh(dataset, firstFrame + k));
   return frames;
 }
 
@@ -41,9 +31,8 @@ TextureEncoder::TextureEncoder(const EncoderParams& params, const Dataset& datas
   check(dataset.cameras.size() <= kMaxCameras,
         name + ": more than " + std::to_string(kMaxCameras) + " cameras");
   check(params.firstFrame + static_cast<int>(frames.size()) <= dataset.frameCount,
-        name + ": FirstFrame + FrameCount = " +
-            std::to_string(params.firstFrame + frames.size()) + " but the dataset has " +
-            std::to_string(dataset.frameCount) + " frames");
+        name + ": FirstFrame + FrameCount = " + std::to_string(params.firstFrame + frames.size()) +
+            " but the dataset has " + std::to_string(dataset.frameCount) + " frames");
   for (size_t c = 0; c < dataset.cameras.size(); ++c) {
     const Camera& camera = dataset.cameras[c].camera;
     check(camera.width <= kMaxImageSize && camera.height <= kMaxImageSize,
@@ -72,9 +61,8 @@ TextureEncoder::TextureEncoder(const EncoderParams& params, const Dataset& datas
 
 TextureEncoder::~TextureEncoder() = default;
 
-void TextureEncoder::encodeGom(size_t first, const std::vector<IntMesh>& decoded,
-                               const Grid& grid, UnitWriter& units,
-                               const TextureCallback& onTexture) {
+void TextureEncoder::encodeGom(size_t first, const std::vector<IntMesh>& decoded, const Grid& grid,
+                               UnitWriter& units, const TextureCallback& onTexture) {
   for (size_t k = 0; k < decoded.size(); ++k) {
     const size_t frame = first + k;
     for (size_t c = 0; c < cameras_.size(); ++c) {

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian packages named as arguments when any of them is missing (as setup.sh does
-# for scripts/packages.txt); used by the scripts that need more than the main build.
+# Installs the Debian packages named as arguments when any of them is missing; used by setup.sh
+# (scripts/packages.txt) and by the scripts that need more than the main build.
 #   bash scripts/apt-install.sh clang libclang-rt-14-dev
 set -euo pipefail
 missing=()

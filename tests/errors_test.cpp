@@ -147,13 +147,6 @@ T parse(const Unit& unit) {
   return value;
 }
 
-template <class T>
-std::vector<uint8_t> serialise(T value) {
-  ByteWriter writer;
-  transfer(writer, value);
-  return writer.take();
-}
-
 void putU16(std::vector<uint8_t>& p, size_t at, uint16_t v) {
   p[at] = static_cast<uint8_t>(v);
   p[at + 1] = static_cast<uint8_t>(v >> 8);
