@@ -352,6 +352,11 @@ def write_outputs(sweep, results, binary_hashes, results_dir, page=None, command
 
     `results` is aligned with sweep.jobs(); None entries (missing or failed jobs) are left out."""
     options = ReportOptions(sweep)
+    # A cached result may have been made for another job with the same cache key (e.g. a mode
+    # renamed, or a setting moved between a mode's `set` and its rate points): the rows name
+    # the jobs of this sweep, not the ones recorded in the cache.
+    results = [None if r is None else dict(r, job=job.record())
+               for job, r in zip(sweep.jobs(), results)]
     rows = [options.kind.row_of(r) for r in results if r is not None]
     table = bd_table(rows, options, [m.name for m in sweep.modes])
     rd_csv, bd_csv = csv_text(rows, options.kind.columns), bd_csv_text(table)

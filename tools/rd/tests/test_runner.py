@@ -91,6 +91,26 @@ class LocalRunTest(TempDirTestCase):
         self.assertIn("12 jobs: 2 ran, 10 cached, 0 failed", out.stdout)
         self.assertEqual(support.count_lines(self.count), JOBS + 2)
 
+    def test_rows_name_the_current_jobs_when_a_cached_result_is_reused(self):
+        # Renaming a mode and moving its setting into `set` keeps every cache key: nothing is
+        # recomputed, and the rows carry the new names, not the ones recorded in the cache.
+        bin_dir = self.bin_dir()
+        support.run_rd(*self.run_args(bin_dir))
+        with open(self.sweep) as f:
+            text = f.read()
+        text = text.replace('name = "d3dmc"', 'name = "d3dmc-renamed"')
+        text = text.replace("settings = [ { MotionQuantStep = 32 }, { MotionQuantStep = 8 }, "
+                            "{ MotionQuantStep = 2 } ]",
+                            "settings = [ { MotionQuantStep = 32, Lambda = -1 }, "
+                            "{ MotionQuantStep = 8 }, { MotionQuantStep = 2 } ]")
+        with open(self.sweep, "w") as f:
+            f.write(text)
+        out = support.run_rd(*self.run_args(bin_dir))
+        self.assertIn("12 jobs: 0 ran, 12 cached, 0 failed", out.stdout)
+        rows = support.csv_rows(os.path.join(self.results, "rd.csv"))
+        self.assertEqual(sorted({r["mode"] for r in rows}), ["d3dmc-renamed", "intra"])
+        self.assertIn("MotionQuantStep=32 Lambda=-1", [r["setting"] for r in rows])
+
     def test_interrupted_sweep_resumes_with_the_unfinished_jobs_only(self):
         # One job at a time, each encode delayed, so that the interrupt lands mid-sweep.
         bin_dir = self.bin_dir(delay=0.3)
