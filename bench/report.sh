@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Every figure of docs/performance.md, in one run: the machine, the CABAC engine, P-mesh and
-# whole-stream coding, I meshes next to Draco's CLI, the Hausdorff metric, and the scaling
-# tables. Benchmarks report the median of 3 repetitions (CPU time, one thread unless stated).
+# whole-stream coding, texture coding and the 4-camera decoding target, I meshes next to
+# Draco's CLI, the Hausdorff metric, and the scaling tables. Benchmarks report the median of 3
+# repetitions (CPU time, one thread unless stated).
 #
 #   bench/report.sh [BUILD_DIR] > report.txt        (default: build, a Release build)
 set -euo pipefail
@@ -21,6 +22,12 @@ echo "# CABAC engine (cabac_bench)"
 echo
 echo "# P meshes, I meshes, whole streams (pmesh_bench)"
 "$build/bin/pmesh_bench" "${reps[@]}" 2>&1 | grep -E '^sequence|_median'
+echo
+echo "# Textures: per-camera coding, shapes, whole streams (texture_bench)"
+"$build/bin/texture_bench" "${reps[@]}" 2>&1 | grep -E '^sequence|_median'
+echo
+echo "# The 4-camera 644x486 target through 3dvo-dec (texture_target.sh)"
+"$here/texture_target.sh" "$build" recon
 echo
 echo "# Hausdorff distance (metrics_bench)"
 "$build/bin/metrics_bench" --benchmark_filter=Hausdorff "${reps[@]}" 2>&1 | grep _median

@@ -55,10 +55,11 @@ class CabacReaderIo {
     value = decoder_.decodeBin(ctx);
     if (trace_) std::fprintf(trace_, "  %-32s = %u\n", name, value);
   }
-  // Runs three times per coded vertex: the error paths are out of line and build their
-  // messages only when taken, so that this stays small enough to inline.
-  void signedUeg(const char* name, ContextModel* ctxs, int numCtx, int k, uint32_t uCoff,
-                 int32_t& value, int32_t maxAbs) {
+  // Runs three times per coded vertex: always inlined (a call costs as much as the bins), with
+  // the error paths out of line, building their messages only when taken.
+  __attribute__((always_inline)) void signedUeg(const char* name, ContextModel* ctxs, int numCtx,
+                                                int k, uint32_t uCoff, int32_t& value,
+                                                int32_t maxAbs) {
     try {
       value = decodeSignedUEGk(decoder_, ctxs, numCtx, k, uCoff);
     } catch (const Error& e) {

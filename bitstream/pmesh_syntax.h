@@ -69,27 +69,31 @@ struct NoDecisions {
 // Residual context class (see PMeshContexts::residual) from the 1-ring neighbours of a vertex
 // that already have a decoded residual: `count` of them, `sumAbs` the sum of their |residual|
 // in the component coded. 0 no such neighbour; 1 all their residuals are 0; 2 mean |r| < 2;
-// 3 mean |r| < 6; 4 otherwise.
+// 3 mean |r| < 6; 4 otherwise. (Written as a sum of comparisons: the class follows the data,
+// and branches on it are mispredicted. sumAbs is 0 when count is.)
 inline int residualClass(int64_t count, int64_t sumAbs) {
-  if (count == 0) return 0;
-  if (sumAbs == 0) return 1;
-  if (sumAbs < 2 * count) return 2;
-  if (sumAbs < 6 * count) return 3;
-  return 4;
+  return int(count > 0) *
+         (1 + int(sumAbs > 0) + int(sumAbs >= 2 * count) + int(sumAbs >= 6 * count));
 }
+
+// Four int32 lanes that + and - combine lane by lane, one SIMD instruction each (a GCC/Clang
+// vector extension): x, y, z and a count.
+using Lanes4 = int32_t __attribute__((vector_size(16)));
 
 // What codePMesh knows about one vertex while it codes a P mesh, stored in breadth-first rank
 // order (GomTopology::rank). 32 bytes, so that the neighbour loops of pass 2 read one cache
-// line per neighbour, and neighbours in rank order are near each other. Two invariants let
-// those loops add without branching: a vertex whose motion is not final yet has motion
-// (0, 0, 0), and absResidual is (0, 0, 0) unless the vertex has a decoded residual.
+// line per neighbour, and neighbours in rank order are near each other. Each half is four
+// lanes whose last lane is a flag, so that summing records over a 1-ring also counts the
+// flags. Two invariants let those loops add without branching: a vertex whose motion is not
+// final yet has motion (0, 0, 0), and absResidual is (0, 0, 0) unless the vertex has a decoded
+// residual.
 struct PMeshVertexState {
-  Vec3i motion{0, 0, 0};       // m[v]
-  Vec3i absResidual{0, 0, 0};  // |pm_residual| per component once decoded
-  uint8_t available = 1;       // motion final (every vertex outside RESIDUAL leaves)
-  uint8_t hasResidual = 0;     // decoded in pass 2
-  uint8_t inResidualLeaf = 0;  // coded in pass 2
-  uint8_t padding[5] = {};
+  // m[v] in lanes 0-2; lane 3 "available": -1 (all bits set, a ready-made mask) when the motion
+  // is final (every vertex outside RESIDUAL leaves, and those of pass 2 once decoded), else 0.
+  Lanes4 motion{0, 0, 0, -1};
+  // |pm_residual| per component in lanes 0-2 once decoded; lane 3 "hasResidual": 1 once
+  // decoded in pass 2.
+  Lanes4 absResidual{0, 0, 0, 0};
 };
 static_assert(sizeof(PMeshVertexState) == 32, "one record per half cache line");
 
@@ -97,6 +101,7 @@ static_assert(sizeof(PMeshVertexState) == 32, "one record per half cache line");
 // to the GOM's vertex count, coding further P meshes allocates nothing.
 struct PMeshWorkspace {
   std::vector<PMeshVertexState> vertices;
+  std::vector<uint32_t> residualRanks;  // pass 2's vertices
   MortonOctree octree;
 };
 
@@ -111,8 +116,12 @@ void codePMesh(Io& io, Decider& decider, const GomTopology& topology,
   const uint32_t n = topology.numVertices;
   io.require(previous.size() == n, "previous frame and GOM topology disagree");
   PMeshContexts ctx;
-  std::vector<PMeshVertexState>& state = work.vertices;
-  state.assign(n, PMeshVertexState());
+  // One record per rank, and a zero record (not available, no residual) for the sentinel rank n
+  // that pads the rank-space rings and wings (GomTopology::kRankBlock).
+  work.vertices.assign(n + 1, PMeshVertexState());
+  work.vertices[n].motion[3] = 0;
+  // Raw pointers: a local pointer, unlike a vector's, is not reloaded after every store.
+  PMeshVertexState* const state = work.vertices.data();
 
   // Pass 1: octree clustering. The cells are ranges of the Morton-sorted vertices (the order
   // inside a leaf does not matter: every vertex of a leaf is treated alike).
@@ -148,14 +157,12 @@ void codePMesh(Io& io, Decider& decider, const GomTopology& topology,
                    "representative motion out of range");
       }
       lastRep = rep;
+      const Lanes4 motion{rep[0], rep[1], rep[2], -1};
       for (uint32_t* it = begin; it != end; ++it)
-        state[rank[*it]].motion = rep;
+        state[rank[*it]].motion = motion;
     } else if (mode == LeafMode::kResidual) {
-      for (uint32_t* it = begin; it != end; ++it) {
-        PMeshVertexState& sv = state[rank[*it]];
-        sv.inResidualLeaf = 1;
-        sv.available = 0;
-      }
+      for (uint32_t* it = begin; it != end; ++it)
+        state[rank[*it]].motion[3] = 0;  // not available until pass 2 decodes it
     }
   };
   auto cell = [&](auto& self, uint32_t begin, uint32_t end, int depth) -> void {
@@ -168,69 +175,107 @@ void codePMesh(Io& io, Decider& decider, const GomTopology& topology,
     if (!split) return leaf(cells + begin, cells + end);
     std::array<uint32_t, 9> bounds;
     octree.split(begin, end, depth, bounds);
-    for (int o = 0; o < 8; ++o)
-      if (bounds[o + 1] > bounds[o]) self(self, bounds[o], bounds[o + 1], depth + 1);
+    // The non-empty octants, in order, listed without a branch per octant (which one is empty
+    // follows the data), then visited.
+    int nonEmpty[8], count = 0;
+    for (int o = 0; o < 8; ++o) {
+      nonEmpty[count] = o;
+      count += bounds[o + 1] > bounds[o];
+    }
+    for (int i = 0; i < count; ++i)
+      self(self, bounds[nonEmpty[i]], bounds[nonEmpty[i] + 1], depth + 1);
   };
   if (n > 0) cell(cell, 0u, n, 0);
 
   // Pass 2: residuals in breadth-first order, i.e. rank by rank. The prediction is
   // predictMotion's (same sums, same rounding), fused with the residual context statistics
-  // into one neighbour loop.
+  // into one neighbour loop. A vertex of a RESIDUAL leaf is still unavailable when its turn
+  // comes (only its own turn makes it available), every other vertex is available.
   Vec3i fallback{0, 0, 0};
   static const char* const kResidualNames[3] = {"pm_residual_x", "pm_residual_y", "pm_residual_z"};
   const uint32_t* const neighbourStart = topology.rankNeighbourStart.data();
   const uint32_t* const neighbours = topology.rankNeighbours.data();
   const uint32_t* const wingStart = topology.rankWingStart.data();
   const std::array<uint32_t, 3>* const wings = topology.rankWings.data();
+  const int64_t quantStep = params.quantStep;
+  // The ranks of the vertices of RESIDUAL leaves, listed without a branch per vertex (which
+  // vertex is one follows the data).
+  work.residualRanks.resize(n);
+  uint32_t* const residualRanks = work.residualRanks.data();
+  uint32_t numResidual = 0;
   for (uint32_t r = 0; r < n; ++r) {
+    residualRanks[numResidual] = r;
+    numResidual += state[r].motion[3] == 0;
+  }
+  for (uint32_t i = 0; i < numResidual; ++i) {
+    const uint32_t r = residualRanks[i];
     PMeshVertexState& sv = state[r];
-    if (!sv.inResidualLeaf) continue;
-    int64_t k = 0, withResidual = 0, sN[3] = {0, 0, 0}, sumAbs[3] = {0, 0, 0};
-    for (uint32_t i = neighbourStart[r]; i < neighbourStart[r + 1]; ++i) {
-      const PMeshVertexState& u = state[neighbours[i]];
-      k += u.available;
-      withResidual += u.hasResidual;
-      for (int c = 0; c < 3; ++c) {
-        sN[c] += u.motion[c];  // 0 unless available
-        sumAbs[c] += u.absResidual[c];
+    // Over the 1-ring: sN and -k (k available neighbours) from the motion lanes, the residual
+    // statistics and their count from the absResidual lanes. The lists come in whole blocks
+    // padded with the zero record; a block's sums fit in int32 (|motion|, |residual| <= 2^21).
+    constexpr uint32_t kBlock = GomTopology::kRankBlock;
+    int64_t ring[2][4] = {};
+    for (uint32_t i = neighbourStart[r]; i < neighbourStart[r + 1]; i += kBlock) {
+      Lanes4 m{0, 0, 0, 0}, a{0, 0, 0, 0};
+      for (uint32_t j = i; j < i + kBlock; ++j) {
+        const PMeshVertexState& u = state[neighbours[j]];
+        m += u.motion;
+        a += u.absResidual;
+      }
+      for (int c = 0; c < 4; ++c) {
+        ring[0][c] += m[c];
+        ring[1][c] += a[c];
       }
     }
+    const int64_t k = -ring[0][3], withResidual = ring[1][3];
     Vec3i prediction = fallback;
     if (k > 0) {
-      int64_t kp = 0, sP[3] = {0, 0, 0};
-      for (uint32_t i = wingStart[r]; i < wingStart[r + 1]; ++i) {
-        const PMeshVertexState& a = state[wings[i][0]];
-        const PMeshVertexState& b = state[wings[i][1]];
-        const PMeshVertexState& o = state[wings[i][2]];
-        const int64_t mask = -int64_t{a.available & b.available & o.available};
-        kp += mask & 1;
-        for (int c = 0; c < 3; ++c)
-          sP[c] += mask & (int64_t{a.motion[c]} + b.motion[c] - o.motion[c]);
+      // Wings (a, b, o) with all three available: sP = sum of m_a + m_b - m_o, and -kp in lane 3
+      // (-1 - 1 + 1). |m_a + m_b - m_o| <= 3 * 2^21.
+      int64_t p[4] = {};
+      for (uint32_t i = wingStart[r]; i < wingStart[r + 1]; i += kBlock) {
+        Lanes4 block{0, 0, 0, 0};
+        for (uint32_t j = i; j < i + kBlock; ++j) {
+          const Lanes4 a = state[wings[j][0]].motion, b = state[wings[j][1]].motion,
+                       o = state[wings[j][2]].motion;
+          const Lanes4 all = a & b & o;
+          block += (a + b - o) & Lanes4{all[3], all[3], all[3], all[3]};
+        }
+        for (int c = 0; c < 4; ++c)
+          p[c] += block[c];
       }
-      for (int c = 0; c < 3; ++c)
-        prediction[c] = static_cast<int32_t>(
-            kp == 0 ? roundDiv(sN[c], k) : roundDiv(kp * sN[c] + k * sP[c], 2 * k * kp));
+      const int64_t kp = -p[3];
+      for (int c = 0; c < 3; ++c) {
+        const int64_t sN = ring[0][c], sP = p[c];
+        prediction[c] = static_cast<int32_t>(kp == 0 ? roundDiv(sN, k)
+                                                     : roundDiv(kp * sN + k * sP, 2 * k * kp));
+      }
     }
     const uint32_t v = topology.order[r];
+    // Scalars until all three are known: a vector assembled in memory lane by lane would be
+    // read back before the stores could be forwarded to it.
+    int32_t motion[3], absResidual[3];
     for (int c = 0; c < 3; ++c) {
       int32_t residual = 0;
       if (!Io::kReading) residual = decider.residual(v, c, prediction[c]);
-      const int cls = residualClass(withResidual, sumAbs[c]);
+      const int cls = residualClass(withResidual, ring[1][c]);
       io.signedUeg(kResidualNames[c], ctx.residual[cls][c], PMeshContexts::kResidualCtx,
                    PMeshContexts::kResidualK, PMeshContexts::kResidualCutoff, residual, kMaxMotion);
-      const int64_t m = int64_t{prediction[c]} + int64_t{params.quantStep} * residual;
+      const int64_t m = int64_t{prediction[c]} + quantStep * residual;
       io.require(m >= -kMaxMotion && m <= kMaxMotion, "decoded motion out of range");
-      sv.motion[c] = static_cast<int32_t>(m);
-      sv.absResidual[c] = residual < 0 ? -residual : residual;
+      motion[c] = static_cast<int32_t>(m);
+      absResidual[c] = residual < 0 ? -residual : residual;
     }
-    sv.available = 1;
-    sv.hasResidual = 1;
-    fallback = sv.motion;
+    sv.motion = Lanes4{motion[0], motion[1], motion[2], -1};
+    sv.absResidual = Lanes4{absResidual[0], absResidual[1], absResidual[2], 1};
+    fallback = {motion[0], motion[1], motion[2]};
   }
 
   positions.resize(n);
-  for (uint32_t v = 0; v < n; ++v)
-    positions[v] = applyMotion(previous[v], state[rank[v]].motion, params.gridBits);
+  for (uint32_t v = 0; v < n; ++v) {
+    const Lanes4& m = state[rank[v]].motion;
+    positions[v] = applyMotion(previous[v], {m[0], m[1], m[2]}, params.gridBits);
+  }
 }
 
 // As above, with buffers of its own (convenient for single P meshes and tests).

@@ -35,7 +35,7 @@ inline ContextModel& binContext(ContextModel* ctxs, int numCtx, uint32_t i) {
 // Loops whose length comes from the stream stop once the payload is used up: past the end
 // every bin reads zeros, and a context whose MPS is 1 would keep decoding ones until the
 // caller's maximum (up to 2^32). Checking every 64 bins keeps the check off the common path.
-inline void guardLoop(const CabacDecoder& dec, uint32_t i, const char* what) {
+inline void guardLoop(const CabacDecoder::LocalEngine& dec, uint32_t i, const char* what) {
   if ((i & 63) == 0 && dec.overrun())
     throw Error(std::string("CABAC: ") + what + " runs past the end of the payload");
 }
@@ -201,17 +201,10 @@ CabacDecoder::CabacDecoder(const uint8_t* data, size_t size)
     : data_(data), ptr_(data), end_(data + size), size_(size) {
   // Clause 9.3.1.2: codIRange = 510, codIOffset = the first 9 bits. Read bytewise from an
   // empty window (bits_ = -9) so the same code handles payloads shorter than 8 bytes.
-  bits_ = -9;
-  while (bits_ < 48) {
-    uint64_t byte = 0;
-    if (ptr_ < end_) {
-      byte = *ptr_++;
-    } else {
-      ++pastEnd_;
-    }
-    value_ = (value_ << 8) | byte;
-    bits_ += 8;
-  }
+  const Window w = refillTail({0, data, -9});
+  value_ = w.value;
+  ptr_ = w.ptr;
+  bits_ = w.bits;
   range_ = 510;
 }
 
@@ -229,34 +222,30 @@ void CabacDecoder::refill() {
     bits_ += 8 * n;
     return;
   }
-  while (bits_ < 48) {
+  const Window w = refillTail({value_, ptr_, bits_});
+  value_ = w.value;
+  ptr_ = w.ptr;
+  bits_ = w.bits;
+}
+
+CabacDecoder::Window CabacDecoder::refillTail(Window w) noexcept {
+  while (w.bits < 48) {
     uint64_t byte = 0;
-    if (ptr_ < end_) {
-      byte = *ptr_++;
+    if (w.ptr < end_) {
+      byte = *w.ptr++;
     } else {
       ++pastEnd_;
     }
-    value_ = (value_ << 8) | byte;
-    bits_ += 8;
+    w.value = (w.value << 8) | byte;
+    w.bits += 8;
   }
+  return w;
 }
 
 uint32_t CabacDecoder::decodeBypassBits(int numBits) {
   requireBits(numBits, "decodeBypassBits");
-  uint32_t value = 0;
-  while (numBits > 0) {
-    const int n = numBits < 8 ? numBits : 8;  // bits_ >= 8 on entry covers one chunk
-    numBits -= n;
-    for (int i = 0; i < n; ++i) {
-      --bits_;
-      const uint64_t scaled = uint64_t(range_) << bits_;
-      const uint32_t bin = value_ >= scaled;
-      value_ -= scaled & (0 - uint64_t(bin));
-      value = (value << 1) | bin;
-    }
-    if (bits_ < 8) refill();
-  }
-  return value;
+  LocalEngine engine(*this);
+  return engine.decodeBypassBits(numBits);
 }
 
 unsigned CabacDecoder::decodeTerminate() {
@@ -307,12 +296,13 @@ void encodeUnary(CabacEncoder& enc, ContextModel* ctxs, int numCtx, uint32_t val
 
 uint32_t decodeUnary(CabacDecoder& dec, ContextModel* ctxs, int numCtx, uint32_t maxValue) {
   requireContexts(ctxs, numCtx, "decodeUnary");
+  CabacDecoder::LocalEngine engine(dec);
   uint32_t n = 0;
-  while (dec.decodeBin(binContext(ctxs, numCtx, n))) {
+  while (engine.decodeBin(binContext(ctxs, numCtx, n))) {
     if (n == maxValue)
       throw Error("CABAC: unary value above its maximum " + std::to_string(maxValue));
     ++n;
-    guardLoop(dec, n, "unary value");
+    guardLoop(engine, n, "unary value");
   }
   return n;
 }
@@ -331,16 +321,8 @@ void encodeExpGolombBypass(CabacEncoder& enc, uint32_t value, int k) {
 
 uint32_t decodeExpGolombBypass(CabacDecoder& dec, int k) {
   requireK(k, "decodeExpGolombBypass");
-  uint64_t value = 0;
-  while (dec.decodeBypass()) {
-    // A 32-bit value ends its prefix by the time k reaches 32; a longer one is corrupt.
-    if (k >= 32) throw Error("CABAC: Exp-Golomb prefix too long (corrupt stream)");
-    value += uint64_t(1) << k;
-    ++k;
-  }
-  value += dec.decodeBypassBits(k);
-  if (value > UINT32_MAX) throw Error("CABAC: Exp-Golomb value exceeds 32 bits (corrupt stream)");
-  return uint32_t(value);
+  CabacDecoder::LocalEngine engine(dec);
+  return cabac::decodeExpGolombBypass(engine, k);
 }
 
 }  // namespace tdvo

@@ -39,6 +39,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "common/cabac_tables.h"
@@ -121,8 +122,9 @@ class CabacDecoder {
   // Decodes a terminate bin; on 1 moves to the next codeword (see above).
   unsigned decodeTerminate();
 
-  // Sticky: some decoded bin depended on bits beyond the end of the payload.
-  bool overrun() const { return consumedBits() > uint64_t(size_) * 8; }
+  // Sticky: some decoded bin depended on bits beyond the end of the payload. (Only bytes
+  // supplied past the end can make it true, so the common case is one comparison.)
+  bool overrun() const { return pastEnd_ != 0 && consumedBits() > uint64_t(size_) * 8; }
   // Bytes of the payload used so far, i.e. loaded into the 9-bit offset register (rounded up;
   // > size only after overrun). After the final terminate bin this is the payload size.
   size_t bytesConsumed() const { return size_t((consumedBits() + 7) / 8); }
@@ -130,11 +132,22 @@ class CabacDecoder {
   // none yet): where a following codeword, or data the caller placed after the payload, starts.
   size_t codewordEnd() const { return codewordEnd_; }
 
+  class LocalEngine;
+
  private:
+  // The read-ahead window: value_, ptr_ and bits_ below.
+  struct Window {
+    uint64_t value;
+    const uint8_t* ptr;
+    int bits;
+  };
   uint64_t consumedBits() const {
     return (uint64_t(ptr_ - data_) + pastEnd_) * 8 - uint64_t(int64_t(bits_));
   }
   void refill();
+  // Tops a window up to 48..55 bits byte by byte (bytes past the end of the payload read as
+  // zeros and are counted in pastEnd_): the start of the payload and its last 7 bytes.
+  Window refillTail(Window w) noexcept;
   void startCodeword();
   void endCodeword();
 
@@ -151,6 +164,53 @@ class CabacDecoder {
   uint64_t value_ = 0;
   int bits_ = 0;
   uint32_t range_ = 510;
+};
+
+// The decoding engine with its registers (value, read position, bits, range) copied into local
+// variables, for a run of bins such as one syntax element's binarisation: construct it on the
+// stack, decode, and its destructor writes the registers back (also when an error is thrown,
+// so error messages see the right byte offset). Why: a context is two uint8_t, and a store to
+// a uint8_t may alias any object, so after every context update the compiler would have to
+// write the decoder's members back to memory and reload them for the next bin. Locals whose
+// address never escapes cannot be aliased, and stay in CPU registers from bin to bin.
+// Only one LocalEngine per decoder may exist at a time, and the decoder's own decode calls must
+// not be used while it does. Decoding is exactly that of CabacDecoder's members.
+class CabacDecoder::LocalEngine {
+ public:
+  explicit LocalEngine(CabacDecoder& dec)
+      : dec_(dec), value_(dec.value_), ptr_(dec.ptr_), bits_(dec.bits_), range_(dec.range_) {}
+  __attribute__((always_inline)) ~LocalEngine() { sync(); }
+  LocalEngine(const LocalEngine&) = delete;
+  LocalEngine& operator=(const LocalEngine&) = delete;
+  // Writes the registers back now (for reading the decoder's position while the engine lives).
+  // Always inlined, also on cold paths: a call would take the engine's address, and an engine
+  // whose address escapes lives in memory, not in registers.
+  __attribute__((always_inline)) void sync() const {
+    dec_.value_ = value_;
+    dec_.ptr_ = ptr_;
+    dec_.bits_ = bits_;
+    dec_.range_ = range_;
+  }
+
+  inline unsigned decodeBin(ContextModel& ctx);
+  inline unsigned decodeBypass();
+  // numBits in [0, 32] (not checked here).
+  inline uint32_t decodeBypassBits(int numBits);
+  // As CabacDecoder::overrun().
+  bool overrun() const {
+    return dec_.pastEnd_ != 0 &&
+           (uint64_t(ptr_ - dec_.data_) + dec_.pastEnd_) * 8 - uint64_t(int64_t(bits_)) >
+               uint64_t(dec_.size_) * 8;
+  }
+
+ private:
+  inline void refill();
+
+  CabacDecoder& dec_;
+  uint64_t value_;
+  const uint8_t* ptr_;
+  int bits_;
+  uint32_t range_;
 };
 
 // ---- Binarisations (clause 9.3.2). Bin i of a context-coded prefix uses
@@ -189,9 +249,9 @@ inline void encodeSignedUEGk(CabacEncoder& enc, ContextModel* ctxs, int numCtx, 
 inline int32_t decodeSignedUEGk(CabacDecoder& dec, ContextModel* ctxs, int numCtx, int k,
                                 uint32_t uCoff);
 
-// ---- Inline hot paths. Everything rare (byte output, refill, termination, errors) is in
-// cabac.cpp. The UEGk binarisations are inline because P meshes code three of them per
-// vertex: a call per bin costs more than the bin.
+// ---- Inline hot paths. Everything rare (byte output, the refill of the payload's last bytes,
+// termination, errors) is in cabac.cpp. The UEGk binarisations are inline because P meshes
+// code three of them per vertex: a call per bin costs more than the bin.
 
 namespace cabac {
 // Left shift that brings a range in [2, 511] back to [256, 511] (renormalisation).
@@ -234,47 +294,89 @@ inline void CabacEncoder::encodeBypass(unsigned bin) {
   if (++pend_ >= 32) drain();
 }
 
-inline unsigned CabacDecoder::decodeBin(ContextModel& ctx) {
-  // The engine registers are updated in locals and stored after the context: a store to the
-  // context's uint8_t fields may alias anything, and storing it last would force the compiler
-  // to reload range_, value_ and bits_ from memory at the next bin.
+inline unsigned CabacDecoder::LocalEngine::decodeBin(ContextModel& ctx) {
   const unsigned s = ctx.state & 63u;
-  const uint32_t lps = cabac::kRangeTabLPS[s][(range_ >> 6) & 3];
+  const unsigned mps = ctx.mps;
+  // The row of rangeTabLPS is loaded before the range is known, and the range then only picks a
+  // byte of it: shorter than indexing the table with the range (the chain from one bin's range
+  // to the next is what limits decoding speed).
+  const uint32_t lps = (cabac::kRangeTabLPSRows[s] >> ((range_ >> 3) & 24)) & 0xFFu;
   const uint32_t mpsRange = range_ - lps;
-  uint64_t value = value_;
-  int bits = bits_;
-  uint32_t range;
-  const uint64_t scaled = uint64_t(mpsRange) << bits;
-  unsigned bin = ctx.mps;
-  if (value < scaled) {
+  const uint64_t scaled = uint64_t(mpsRange) << bits_;
+  unsigned bin;
+  if (value_ < scaled) {
+    bin = mps;
     ctx.state = cabac::kTransIdxMPS[s];
     // An MPS leaves at least 128 of the range (Table 9-44), so at most one bit is renormalised.
-    const unsigned shift = mpsRange < 256;
-    range = mpsRange << shift;
-    bits -= int(shift);
+    const bool renormalise = mpsRange < 256;
+    range_ = renormalise ? 2 * mpsRange : mpsRange;
+    bits_ -= int(renormalise);
   } else {
-    value -= scaled;
-    bin ^= 1u;
-    ctx.mps ^= unsigned(s == 0);
+    value_ -= scaled;
+    bin = mps ^ 1u;
+    ctx.mps = uint8_t(mps ^ unsigned(s == 0));  // clause 9.3.3.2.1.1: LPS in state 0 swaps
     ctx.state = cabac::kTransIdxLPS[s];
     const int shift = cabac::renormShift(lps);
-    range = lps << shift;
-    bits -= shift;
+    range_ = lps << shift;
+    bits_ -= shift;
   }
-  range_ = range;
-  value_ = value;
-  bits_ = bits;
-  if (bits < 8) refill();
+  if (bits_ < 8) refill();
   return bin;
 }
 
-inline unsigned CabacDecoder::decodeBypass() {
+inline unsigned CabacDecoder::LocalEngine::decodeBypass() {
   --bits_;  // shift the next bit into the offset window
   const uint64_t scaled = uint64_t(range_) << bits_;
   const unsigned bin = value_ >= scaled;
   value_ -= scaled & (0 - uint64_t(bin));
   if (bits_ < 8) refill();
   return bin;
+}
+
+inline uint32_t CabacDecoder::LocalEngine::decodeBypassBits(int numBits) {
+  uint32_t value = 0;
+  while (numBits > 0) {
+    const int n = numBits < 8 ? numBits : 8;  // bits_ >= 8 on entry covers one chunk
+    numBits -= n;
+    for (int i = 0; i < n; ++i) {
+      --bits_;
+      const uint64_t scaled = uint64_t(range_) << bits_;
+      const uint32_t bin = value_ >= scaled;
+      value_ -= scaled & (0 - uint64_t(bin));
+      value = (value << 1) | bin;
+    }
+    if (bits_ < 8) refill();
+  }
+  return value;
+}
+
+// Called with 0 <= bits_ < 8: six more bytes make 48..55 bits of read-ahead.
+inline void CabacDecoder::LocalEngine::refill() {
+  if (dec_.end_ - ptr_ >= 8) {
+    uint64_t word;
+    std::memcpy(&word, ptr_, 8);
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    word = __builtin_bswap64(word);
+#endif
+    value_ = (value_ << 48) | (word >> 16);
+    ptr_ += 6;
+    bits_ += 48;
+    return;
+  }
+  const Window w = dec_.refillTail({value_, ptr_, bits_});
+  value_ = w.value;
+  ptr_ = w.ptr;
+  bits_ = w.bits;
+}
+
+inline unsigned CabacDecoder::decodeBin(ContextModel& ctx) {
+  LocalEngine engine(*this);
+  return engine.decodeBin(ctx);
+}
+
+inline unsigned CabacDecoder::decodeBypass() {
+  LocalEngine engine(*this);
+  return engine.decodeBypass();
 }
 
 inline void encodeTruncatedUnary(CabacEncoder& enc, ContextModel* ctxs, int numCtx, uint32_t value,
@@ -302,39 +404,79 @@ inline void encodeSignedUEGk(CabacEncoder& enc, ContextModel* ctxs, int numCtx, 
   if (magnitude != 0) enc.encodeBypass(value < 0 ? 1 : 0);
 }
 
+// The decoding binarisations run on one LocalEngine: cabac::decode* below do the work, the
+// public decode* functions check their arguments and hold the engine.
+namespace cabac {
+
+inline uint32_t decodeTruncatedUnary(CabacDecoder::LocalEngine& engine, ContextModel* ctxs,
+                                     uint32_t lastCtx, uint32_t cMax) {
+  uint32_t n = 0;
+  while (n < cMax && engine.decodeBin(ctxs[n < lastCtx ? n : lastCtx])) {
+    ++n;
+    // Stop a long run of ones read past the end of the payload (checked every 64 bins).
+    if ((n & 63) == 0 && engine.overrun()) throwLoopOverrun("truncated unary value");
+  }
+  return n;
+}
+
+inline uint32_t decodeExpGolombBypass(CabacDecoder::LocalEngine& engine, int k) {
+  uint64_t value = 0;
+  while (engine.decodeBypass()) {
+    // A 32-bit value ends its prefix by the time k reaches 32; a longer one is corrupt.
+    if (k >= 32) throwCorrupt("CABAC: Exp-Golomb prefix too long (corrupt stream)");
+    value += uint64_t(1) << k;
+    ++k;
+  }
+  value += engine.decodeBypassBits(k);
+  if (value > UINT32_MAX) throwCorrupt("CABAC: Exp-Golomb value exceeds 32 bits (corrupt stream)");
+  return uint32_t(value);
+}
+
+inline uint32_t decodeUEGk(CabacDecoder::LocalEngine& engine, ContextModel* ctxs, int numCtx, int k,
+                           uint32_t uCoff) {
+  const uint32_t prefix = decodeTruncatedUnary(engine, ctxs, uint32_t(numCtx - 1), uCoff);
+  if (prefix < uCoff) return prefix;
+  const uint64_t value = uint64_t(uCoff) + decodeExpGolombBypass(engine, k);
+  if (value > UINT32_MAX) throwCorrupt("CABAC: UEGk value exceeds 32 bits (corrupt stream)");
+  return uint32_t(value);
+}
+
+// As decodeSignedUEGk below, without its argument checks.
+inline int32_t decodeSignedUEGk(CabacDecoder::LocalEngine& engine, ContextModel* ctxs, int numCtx,
+                                int k, uint32_t uCoff) {
+  const uint32_t magnitude = decodeUEGk(engine, ctxs, numCtx, k, uCoff);
+  if (magnitude == 0) return 0;
+  // The sign is a fair coin: no branch on it.
+  const uint32_t negative = engine.decodeBypass();
+  if (magnitude > 0x7FFFFFFFu + negative)
+    throwCorrupt("CABAC: signed UEGk value exceeds 32 bits (corrupt stream)");
+  return int32_t((magnitude ^ (0u - negative)) + negative);  // two's complement negation
+}
+
+}  // namespace cabac
+
 inline uint32_t decodeTruncatedUnary(CabacDecoder& dec, ContextModel* ctxs, int numCtx,
                                      uint32_t cMax) {
   if (cMax == 0) return 0;
   if (ctxs == nullptr || numCtx < 1) cabac::throwNoContexts("decodeTruncatedUnary");
-  const uint32_t lastCtx = uint32_t(numCtx - 1);
-  uint32_t n = 0;
-  while (n < cMax && dec.decodeBin(ctxs[n < lastCtx ? n : lastCtx])) {
-    ++n;
-    // Stop a long run of ones read past the end of the payload (checked every 64 bins).
-    if ((n & 63) == 0 && dec.overrun()) cabac::throwLoopOverrun("truncated unary value");
-  }
-  return n;
+  CabacDecoder::LocalEngine engine(dec);
+  return cabac::decodeTruncatedUnary(engine, ctxs, uint32_t(numCtx - 1), cMax);
 }
 
 inline uint32_t decodeUEGk(CabacDecoder& dec, ContextModel* ctxs, int numCtx, int k,
                            uint32_t uCoff) {
   if (k < 0 || k > 31) cabac::throwBadK("decodeUEGk");
-  const uint32_t prefix = decodeTruncatedUnary(dec, ctxs, numCtx, uCoff);
-  if (prefix < uCoff) return prefix;
-  const uint64_t value = uint64_t(uCoff) + decodeExpGolombBypass(dec, k);
-  if (value > UINT32_MAX) cabac::throwCorrupt("CABAC: UEGk value exceeds 32 bits (corrupt stream)");
-  return uint32_t(value);
+  if (uCoff > 0 && (ctxs == nullptr || numCtx < 1)) cabac::throwNoContexts("decodeTruncatedUnary");
+  CabacDecoder::LocalEngine engine(dec);
+  return cabac::decodeUEGk(engine, ctxs, numCtx, k, uCoff);
 }
 
 inline int32_t decodeSignedUEGk(CabacDecoder& dec, ContextModel* ctxs, int numCtx, int k,
                                 uint32_t uCoff) {
-  const uint32_t magnitude = decodeUEGk(dec, ctxs, numCtx, k, uCoff);
-  if (magnitude == 0) return 0;
-  const bool negative = dec.decodeBypass() != 0;
-  const uint32_t limit = negative ? 0x80000000u : 0x7FFFFFFFu;
-  if (magnitude > limit)
-    cabac::throwCorrupt("CABAC: signed UEGk value exceeds 32 bits (corrupt stream)");
-  return negative ? int32_t(-int64_t(magnitude)) : int32_t(magnitude);
+  if (k < 0 || k > 31) cabac::throwBadK("decodeUEGk");
+  if (uCoff > 0 && (ctxs == nullptr || numCtx < 1)) cabac::throwNoContexts("decodeTruncatedUnary");
+  CabacDecoder::LocalEngine engine(dec);
+  return cabac::decodeSignedUEGk(engine, ctxs, numCtx, k, uCoff);
 }
 
 }  // namespace tdvo

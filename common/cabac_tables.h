@@ -32,6 +32,18 @@ inline constexpr uint8_t kRangeTabLPS[64][4] = {
     {6, 8, 9, 11},        {6, 7, 9, 10},        {6, 7, 8, 9},         {2, 2, 2, 2},
 };
 
+// kRangeTabLPS with each row packed into one word, qCodIRangeIdx q in bits [8q, 8q + 8).
+struct RangeTabLPSRows {
+  uint32_t row[64];
+  constexpr RangeTabLPSRows() : row() {
+    for (int s = 0; s < 64; ++s)
+      for (int q = 0; q < 4; ++q)
+        row[s] |= uint32_t{kRangeTabLPS[s][q]} << (8 * q);
+  }
+  constexpr uint32_t operator[](unsigned s) const { return row[s]; }
+};
+inline constexpr RangeTabLPSRows kRangeTabLPSRows;
+
 // Table 9-45: state transition after coding an LPS (transIdxLPS). The MPS value flips when an
 // LPS is coded in state 0 (clause 9.3.3.2.1.1); that rule is applied by the engine, not here.
 inline constexpr uint8_t kTransIdxLPS[64] = {

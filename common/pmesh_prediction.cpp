@@ -1,6 +1,7 @@
 #include "common/pmesh_prediction.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -119,25 +120,42 @@ GomTopology GomTopology::build(const IntMesh& iMesh) {
     }
   }
 
-  // Rank space.
+  // Rank space, each list padded with the sentinel to whole blocks.
   t.rank.resize(n);
   for (uint32_t r = 0; r < n; ++r)
     t.rank[t.order[r]] = r;
+  const auto padded = [](uint64_t count) {
+    return (count + kRankBlock - 1) / kRankBlock * kRankBlock;
+  };
+  uint64_t neighbourSlots = 0, wingSlots = 0;
+  for (uint32_t v = 0; v < n; ++v) {
+    neighbourSlots += padded(t.neighbourStart[v + 1] - t.neighbourStart[v]);
+    wingSlots += padded(t.wingStart[v + 1] - t.wingStart[v]);
+  }
+  if (neighbourSlots > UINT32_MAX || wingSlots > UINT32_MAX)
+    throw Error("I mesh: too many neighbours for the P-mesh tables (" + std::to_string(n) +
+                " vertices)");
   t.rankNeighbourStart.resize(n + 1);
-  t.rankNeighbours.resize(t.neighbours.size());
   t.rankWingStart.resize(n + 1);
-  t.rankWings.resize(t.wings.size());
   t.rankNeighbourStart[0] = t.rankWingStart[0] = 0;
+  for (uint32_t r = 0; r < n; ++r) {
+    const uint32_t v = t.order[r];
+    t.rankNeighbourStart[r + 1] =
+        t.rankNeighbourStart[r] +
+        static_cast<uint32_t>(padded(t.neighbourStart[v + 1] - t.neighbourStart[v]));
+    t.rankWingStart[r + 1] =
+        t.rankWingStart[r] + static_cast<uint32_t>(padded(t.wingStart[v + 1] - t.wingStart[v]));
+  }
+  t.rankNeighbours.assign(t.rankNeighbourStart[n], n);
+  t.rankWings.assign(t.rankWingStart[n], {n, n, n});
   for (uint32_t r = 0; r < n; ++r) {
     const uint32_t v = t.order[r];
     uint32_t at = t.rankNeighbourStart[r];
     for (uint32_t i = t.neighbourStart[v]; i < t.neighbourStart[v + 1]; ++i)
       t.rankNeighbours[at++] = t.rank[t.neighbours[i]];
-    t.rankNeighbourStart[r + 1] = at;
     at = t.rankWingStart[r];
     for (uint32_t i = t.wingStart[v]; i < t.wingStart[v + 1]; ++i)
       t.rankWings[at++] = {t.rank[t.wings[i][0]], t.rank[t.wings[i][1]], t.rank[t.wings[i][2]]};
-    t.rankWingStart[r + 1] = at;
   }
   return t;
 }
@@ -204,85 +222,136 @@ struct Spread8 {
 };
 constexpr Spread8 kSpread8;
 
-// Bit i of x (x < 2^24) moved to bit 3i.
-inline uint64_t spreadBits3(uint32_t x) {
-  return uint64_t{kSpread8.table[x & 255]} | uint64_t{kSpread8.table[(x >> 8) & 255]} << 24 |
-         uint64_t{kSpread8.table[(x >> 16) & 255]} << 48;
+// Bit i of x moved to bit 3i, for x < 2^16 and x < 2^24.
+inline uint64_t spreadBits3Of16(uint32_t x) {
+  return uint64_t{kSpread8.table[x & 255]} | uint64_t{kSpread8.table[(x >> 8) & 255]} << 24;
+}
+inline uint64_t spreadBits3Of24(uint32_t x) {
+  return spreadBits3Of16(x) | uint64_t{kSpread8.table[(x >> 16) & 255]} << 48;
 }
 
 }  // namespace
 
 void MortonOctree::build(const std::vector<Vec3i>& positions, int gridBits) {
+  if (gridBits < 0 || gridBits > 20)
+    throw std::invalid_argument("MortonOctree: gridBits out of [0, 20]");
   gridBits_ = gridBits;
   const size_t n = positions.size();
-  keys_.resize(n);
-  vertices_.resize(n);
-  keyScratch_.resize(n);
-  vertexScratch_.resize(n);
-  // Bit 3i + 2 is bit i of x, 3i + 1 of y, 3i of z: the octant digit of depth d sits at bit
-  // 3 * (gridBits - 1 - d). Only the low gridBits bits of a coordinate choose octants (as in
-  // OctreePartition).
-  const uint32_t mask = (uint32_t{1} << gridBits) - 1;
-  for (size_t v = 0; v < n; ++v) {
-    const Vec3i& p = positions[v];
-    keys_[v] = spreadBits3(uint32_t(p[0]) & mask) << 2 | spreadBits3(uint32_t(p[1]) & mask) << 1 |
-               spreadBits3(uint32_t(p[2]) & mask);
-    vertices_[v] = static_cast<uint32_t>(v);
+  indexBits_ = 0;
+  while (indexBits_ < 64 && (uint64_t{1} << indexBits_) < n)
+    ++indexBits_;
+  wide_ = 3 * gridBits + indexBits_ > 64;
+  if (wide_) {
+    sortItems(positions, wideItems_, wideScratch_);
+  } else {
+    sortItems(positions, items_, itemScratch_);
   }
-  // LSD radix sort, 12 bits per pass, all histograms counted in one read of the keys. A pass
-  // over a digit that every key shares is skipped.
+}
+
+template <class Item>
+void MortonOctree::sortItems(const std::vector<Vec3i>& positions, std::vector<Item>& items,
+                             std::vector<Item>& scratch) {
+  const size_t n = positions.size();
+  items.resize(n);
+  scratch.resize(n);
+  vertices_.resize(n);
+  const int indexBits = indexBits_;
+  // LSD radix sort of the keys, 12 bits per pass (at most 5 for 20-bit grids); the histograms
+  // of all passes are counted while the keys are made. A pass over a digit that every key
+  // shares is skipped.
   constexpr int kDigitBits = 12;
   constexpr uint32_t kBuckets = 1u << kDigitBits;
-  const int passes = (3 * gridBits + kDigitBits - 1) / kDigitBits;
+  constexpr uint64_t kDigit = kBuckets - 1;
+  const int passes = (3 * gridBits_ + kDigitBits - 1) / kDigitBits;
   counts_.assign(size_t(passes) * kBuckets, 0u);
-  for (size_t i = 0; i < n; ++i)
-    for (int pass = 0; pass < passes; ++pass)
-      ++counts_[pass * kBuckets + ((keys_[i] >> (pass * kDigitBits)) & (kBuckets - 1))];
+  uint32_t* const counts = counts_.data();
+  Item* from = items.data();
+  Item* to = scratch.data();
+  // Bit 3i + 2 of a key is bit i of x, 3i + 1 of y, 3i of z: the octant digit of depth d sits at
+  // bit 3 * (gridBits - 1 - d). Only the low gridBits bits of a coordinate choose octants (as in
+  // OctreePartition).
+  const uint32_t mask = (uint32_t{1} << gridBits_) - 1;
+  auto makeKeys = [&](auto spread) {
+    for (size_t v = 0; v < n; ++v) {
+      const Vec3i& p = positions[v];
+      const uint64_t key = spread(uint32_t(p[0]) & mask) << 2 | spread(uint32_t(p[1]) & mask) << 1 |
+                           spread(uint32_t(p[2]) & mask);
+      from[v] = Item{key} << indexBits | v;
+      ++counts[key & kDigit];  // unrolled: a loop over the passes costs more than the counting
+      if (passes > 1) ++counts[kBuckets + (key >> kDigitBits & kDigit)];
+      if (passes > 2) ++counts[2 * kBuckets + (key >> (2 * kDigitBits) & kDigit)];
+      if (passes > 3) ++counts[3 * kBuckets + (key >> (3 * kDigitBits) & kDigit)];
+      if (passes > 4) ++counts[4 * kBuckets + (key >> (4 * kDigitBits) & kDigit)];
+    }
+  };
+  if (gridBits_ <= 16) {
+    makeKeys(spreadBits3Of16);
+  } else {
+    makeKeys(spreadBits3Of24);
+  }
   for (int pass = 0; pass < passes; ++pass) {
-    const int shift = pass * kDigitBits;
-    uint32_t* count = counts_.data() + size_t(pass) * kBuckets;
-    if (n == 0 || count[(keys_[0] >> shift) & (kBuckets - 1)] == n) continue;
+    const int shift = indexBits + pass * kDigitBits;
+    uint32_t* const count = counts + size_t(pass) * kBuckets;
+    if (n == 0 || count[uint32_t(from[0] >> shift) & (kBuckets - 1)] == n) continue;
     uint32_t sum = 0;
     for (uint32_t b = 0; b < kBuckets; ++b) {
       const uint32_t c = count[b];
       count[b] = sum;
       sum += c;
     }
-    for (size_t i = 0; i < n; ++i) {
-      const uint32_t slot = count[(keys_[i] >> shift) & (kBuckets - 1)]++;
-      keyScratch_[slot] = keys_[i];
-      vertexScratch_[slot] = vertices_[i];
-    }
-    keys_.swap(keyScratch_);
-    vertices_.swap(vertexScratch_);
+    for (size_t i = 0; i < n; ++i)
+      to[count[uint32_t(from[i] >> shift) & (kBuckets - 1)]++] = from[i];
+    std::swap(from, to);
   }
+  if (from != items.data()) items.swap(scratch);  // the sorted items are in items
+  const Item indexMask = (Item{1} << indexBits) - 1;
+  uint32_t* const vertices = vertices_.data();
+  for (size_t i = 0; i < n; ++i)
+    vertices[i] = uint32_t(from[i] & indexMask);
 }
 
 void MortonOctree::split(uint32_t begin, uint32_t end, int depth,
                          std::array<uint32_t, 9>& bounds) const {
-  const int shift = 3 * (gridBits_ - 1 - depth);
-  const uint64_t* keys = keys_.data();
-  auto octant = [&](uint32_t i) { return uint32_t(keys[i] >> shift) & 7u; };
+  if (wide_) {
+    splitItems(wideItems_, begin, end, depth, bounds);
+  } else {
+    splitItems(items_, begin, end, depth, bounds);
+  }
+}
+
+template <class Item>
+void MortonOctree::splitItems(const std::vector<Item>& items, uint32_t begin, uint32_t end,
+                              int depth, std::array<uint32_t, 9>& bounds) const {
+  const int shift = indexBits_ + 3 * (gridBits_ - 1 - depth);
+  const Item* const sorted = items.data();
+  auto octant = [&](uint32_t i) { return uint32_t(sorted[i] >> shift) & 7u; };
   bounds[0] = begin;
+  bounds[8] = end;
+  // The octant digits of a cell are sorted; everything here is branch-free, as the data decides
+  // where the octants end.
+  if (end - begin <= 255) {
+    // Small cells (nearly all): count the octants in eight byte counters of one word; a
+    // multiplication by 0x0101... makes byte o the number of vertices in octants 0 .. o.
+    uint64_t counts = 0;
+    for (uint32_t i = begin; i < end; ++i)
+      counts += uint64_t{1} << (8 * octant(i));
+    const uint64_t below = counts * 0x0101010101010101u;
+    for (int o = 0; o < 7; ++o)
+      bounds[o + 1] = begin + uint32_t((below >> (8 * o)) & 0xFF);
+    return;
+  }
+  // Large cells: for each octant o < 7, the first vertex whose digit exceeds o, by a binary
+  // search whose steps depend only on the length.
   uint32_t at = begin;
-  for (uint32_t o = 0; o < 8; ++o) {
-    // The end of octant o: the first key whose digit exceeds o. Octants are usually small,
-    // so look a few entries ahead before a binary search.
-    uint32_t probe = at;
-    while (probe < end && probe < at + 4 && octant(probe) <= o)
-      ++probe;
-    if (probe < end && probe == at + 4) {
-      uint32_t lo = probe, hi = end;
-      while (lo < hi) {
-        const uint32_t mid = lo + (hi - lo) / 2;
-        if (octant(mid) <= o)
-          lo = mid + 1;
-        else
-          hi = mid;
-      }
-      probe = lo;
+  for (uint32_t o = 0; o < 7; ++o) {
+    uint32_t first = at, length = end - at;
+    while (length > 0) {
+      const uint32_t half = length / 2;
+      const bool below = octant(first + half) <= o;
+      first = below ? first + half + 1 : first;
+      length = below ? length - half - 1 : half;
     }
-    at = probe;
+    at = first;
     bounds[o + 1] = at;
   }
 }

@@ -32,6 +32,13 @@ struct GomTopology {
   // rankNeighbours[rankNeighbourStart[r] .. rankNeighbourStart[r+1]) (ranks, not indices), its
   // wings rankWings[rankWingStart[r] .. rankWingStart[r+1]). A vertex's neighbours are then
   // close to it in rank, so the per-vertex records they point at share cache lines.
+  // Each ring and each list of wings is padded up to a multiple of kRankBlock entries with the
+  // sentinel rank numVertices (wings (numVertices, numVertices, numVertices)), so that loops
+  // over them run in whole blocks: for most vertices exactly one, a loop the branch predictor
+  // gets right, where a loop over the vertex's own valence ends at an unpredictable count. The
+  // sentinel stands for a vertex with no motion and no residual (codePMesh keeps a zero record
+  // for it).
+  static constexpr uint32_t kRankBlock = 8;
   std::vector<uint32_t> rank;
   std::vector<uint32_t> rankNeighbourStart, rankNeighbours;
   std::vector<uint32_t> rankWingStart;
@@ -42,13 +49,36 @@ struct GomTopology {
   static GomTopology build(const IntMesh& iMesh);
 };
 
-// round(num / den) for den > 0, halves rounded up: floor((2 * num + den) / (2 * den)).
-inline int64_t roundDiv(int64_t num, int64_t den) {
-  const int64_t a = 2 * num + den, b = 2 * den;
-  // Floor division: C++ truncates toward zero, one too high when a negative a leaves a
-  // remainder. Written without a branch on the sign, which follows the data.
+// ceil(2^64 / b) for the divisors b in [2, kCount) that floorDiv handles by multiplication.
+struct SmallReciprocals {
+  static constexpr int64_t kCount = 1024;
+  uint64_t value[kCount];
+  constexpr SmallReciprocals() : value() {
+    for (int64_t b = 2; b < kCount; ++b)
+      value[b] = UINT64_MAX / uint64_t(b) + 1;
+  }
+};
+inline constexpr SmallReciprocals kSmallReciprocals;
+
+// floor(a / b) for b > 0.
+inline int64_t floorDiv(int64_t a, int64_t b) {
+  if (b >= 2 && b < SmallReciprocals::kCount) {
+    // A 64-bit division takes about 15 cycles, a multiplication 4. a * ceil(2^64 / b) / 2^64
+    // differs from a / b by less than 1/2 for any int64 a, so its floor is floor(a / b) or a
+    // neighbour, and the remainder (in [-b, 2b), computed modulo 2^64) says which. Exact.
+    int64_t q = int64_t((__int128{a} * __int128{kSmallReciprocals.value[b]}) >> 64);
+    const int64_t r = int64_t(uint64_t(a) - uint64_t(q) * uint64_t(b));
+    return q + int64_t(r >= b) - int64_t(r < 0);
+  }
+  // C++ truncates toward zero, one too high when a negative a leaves a remainder. Written
+  // without a branch on the sign, which follows the data.
   const int64_t q = a / b, r = a % b;
   return q - (r < 0);
+}
+
+// round(num / den) for den > 0, halves rounded up: floor((2 * num + den) / (2 * den)).
+inline int64_t roundDiv(int64_t num, int64_t den) {
+  return floorDiv(2 * num + den, 2 * den);
 }
 
 // The motion predictor of vertex v from motions already final (available[u] != 0):
@@ -84,7 +114,8 @@ class MortonOctree {
  public:
   // Sorts vertex indices 0 .. positions.size() - 1 by Morton key (LSD radix sort, stable: equal
   // positions stay in index order). As in OctreePartition, only the low gridBits bits of each
-  // coordinate count (grid positions lie in [0, 2^gridBits)).
+  // coordinate count (grid positions lie in [0, 2^gridBits)). gridBits <= 20 (else throws
+  // std::invalid_argument), as for any 3DVO grid.
   void build(const std::vector<Vec3i>& positions, int gridBits);
   // The sorted vertex indices; a cell is a range [begin, end) of this array.
   uint32_t* vertices() { return vertices_.data(); }
@@ -94,9 +125,23 @@ class MortonOctree {
   void split(uint32_t begin, uint32_t end, int depth, std::array<uint32_t, 9>& bounds) const;
 
  private:
+  __extension__ using Wide = unsigned __int128;
+  // The sort moves one integer per vertex, (key << indexBits_) | vertex index: sorting these
+  // sorts by key and, among equal keys, by index. 64 bits hold them when 3 * gridBits +
+  // indexBits_ <= 64 (e.g. a 12-bit grid with up to 2^28 vertices), 128 bits otherwise.
+  template <class Item>
+  void sortItems(const std::vector<Vec3i>& positions, std::vector<Item>& items,
+                 std::vector<Item>& scratch);
+  template <class Item>
+  void splitItems(const std::vector<Item>& items, uint32_t begin, uint32_t end, int depth,
+                  std::array<uint32_t, 9>& bounds) const;
+
   int gridBits_ = 0;
-  std::vector<uint64_t> keys_, keyScratch_;
-  std::vector<uint32_t> vertices_, vertexScratch_, counts_;
+  int indexBits_ = 0;
+  bool wide_ = false;  // the items are wideItems_
+  std::vector<uint64_t> items_, itemScratch_;
+  std::vector<Wide> wideItems_, wideScratch_;
+  std::vector<uint32_t> vertices_, counts_;
 };
 
 // prev + motion, clamped into the grid [0, 2^gridBits - 1] per coordinate.

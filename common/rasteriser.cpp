@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "common/error.h"
@@ -23,9 +24,15 @@ struct ClipVertex {
 // normalised coordinates x/z, y/z) inscribed in the circle of 0.999 × the model's monotonic
 // radius, so that no clipped corner lies where the lens folds back; the last four bound the
 // guard rectangle in normalised coordinates.
+constexpr int kPolygonSides = 32;
+
 struct ClipVolume {
   int count = 0;
   std::array<std::array<double, 4>, 40> planes;
+  // The 32-gon's sides, when there are any: planes polygonFirst .. polygonFirst + 31, each at
+  // distance polygonSide · Z from the axis.
+  int polygonFirst = -1;
+  double polygonSide = 0;
   void add(double a, double b, double c, double d) {
     planes[static_cast<size_t>(count++)] = {a, b, c, d};
   }
@@ -33,10 +40,29 @@ struct ClipVolume {
     const std::array<double, 4>& q = planes[static_cast<size_t>(plane)];
     return q[0] * p[0] + q[1] * p[1] + q[2] * p[2] + q[3];
   }
+  // Whether no plane's value at p is negative (NaN counts as inside, as in clipPolygon): the
+  // same answer as testing every plane, with a shortcut for the 32-gon. A point whose distance
+  // from the axis is below the polygon's inscribed circle by a relative margin of 5e-6 is
+  // inside all 32 sides, and that margin exceeds the rounding error of a side's computed value
+  // (a few 1e-16 of the point's size) by ten orders of magnitude, so the shortcut never
+  // accepts a point that a side's computed value rejects. Other points test every side.
+  bool contains(const Vec3d& p) const {
+    for (int plane = 0; plane < count; ++plane) {
+      if (plane == polygonFirst) {  // the near plane came first: Z >= zNear > 0, or NaN
+        const double radius = polygonSide * p[2];
+        if (p[0] * p[0] + p[1] * p[1] <= radius * radius * (1 - 1e-5)) {
+          plane += kPolygonSides - 1;
+          continue;
+        }
+      }
+      if (value(plane, p) < 0) return false;
+    }
+    return true;
+  }
 };
 
 // cos and sin of 2π (k + ½) / 32, k = 0 … 31, as literals (no libm rounding differences).
-constexpr double kPolygon[32][2] = {
+constexpr double kPolygon[kPolygonSides][2] = {
     {0.99518472667219693, 0.098017140329560604},  {0.95694033573220882, 0.29028467725446233},
     {0.88192126434835505, 0.47139673682599764},   {0.77301045336273699, 0.63439328416364549},
     {0.63439328416364549, 0.77301045336273699},   {0.47139673682599781, 0.88192126434835494},
@@ -91,6 +117,8 @@ ClipVolume clipVolume(const Camera& camera, double zNear) {
       // The 32-gon: each side at distance limit · cos(π/32) from the axis, normal at angle
       // 2π (k + ½) / 32: limit·cos(π/32)·Z − cos·X − sin·Y ≥ 0.
       const double side = limit * 0.99518472667219693;
+      v.polygonFirst = v.count;
+      v.polygonSide = side;
       for (const auto& direction : kPolygon)
         v.add(-direction[0], -direction[1], side, 0);
     }
@@ -134,11 +162,13 @@ int clipPolygon(ClipVertex* poly, int n, const ClipVolume& volume) {
   return n;
 }
 
-int64_t ceilDiv(int64_t a, int64_t b) {  // b > 0
-  return a >= 0 ? (a + b - 1) / b : -((-a) / b);
+// The first pixel centre at or after, and the last at or before, fixed-point coordinate a:
+// ⌈a / 2^kSubpixelBits⌉ and ⌊a / 2^kSubpixelBits⌋ (arithmetic shifts round toward −∞; no branch).
+int64_t ceilToPixel(int64_t a) {
+  return -((-a) >> kSubpixelBits);
 }
-int64_t floorDiv(int64_t a, int64_t b) {  // b > 0
-  return a >= 0 ? a / b : -((-a + b - 1) / b);
+int64_t floorToPixel(int64_t a) {
+  return a >> kSubpixelBits;
 }
 
 struct ScreenVertex {
@@ -147,22 +177,32 @@ struct ScreenVertex {
   const Vec3d* bary;  // barycentric coordinates in the original triangle
 };
 
-// Calls fragment(x, y, depth, bary) for every pixel centre the triangle covers (top-left rule).
+// Calls fragment(x, y, depth, bary) for every pixel centre the triangle covers (top-left rule),
+// or, without attributes, fragment(y, x0, x1) for every row whose pixel centres x0 .. x1 it
+// covers. Always inlined into the per-triangle loop: most triangles of a fine mesh cost less
+// than the call.
 template <bool kNeedAttributes, class Fragment>
-void rasteriseTriangle(ScreenVertex v0, ScreenVertex v1, ScreenVertex v2, int width, int height,
-                       Fragment& fragment) {
-  int64_t area = (v1.x - v0.x) * (v2.y - v0.y) - (v1.y - v0.y) * (v2.x - v0.x);
+inline __attribute__((always_inline)) void rasteriseTriangle(const ScreenVertex& a,
+                                                             const ScreenVertex& b,
+                                                             const ScreenVertex& c, int width,
+                                                             int height, Fragment& fragment) {
+  // Most triangles of a fine mesh cover no pixel centre at all: the pixel bounds first.
+  constexpr int64_t one = int64_t(1) << kSubpixelBits;
+  const int64_t xMin = std::max<int64_t>(0, ceilToPixel(std::min({a.x, b.x, c.x})));
+  const int64_t xMax = std::min<int64_t>(width - 1, floorToPixel(std::max({a.x, b.x, c.x})));
+  const int64_t yMin = std::max<int64_t>(0, ceilToPixel(std::min({a.y, b.y, c.y})));
+  const int64_t yMax = std::min<int64_t>(height - 1, floorToPixel(std::max({a.y, b.y, c.y})));
+  if (xMin > xMax || yMin > yMax) return;
+  // Corners by reference, swapped as pointers: copying three corners into a call's frame cost
+  // as much as rasterising a small triangle (a store-forwarding stall).
+  const ScreenVertex* v[3] = {&a, &b, &c};
+  int64_t area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
   if (area == 0) return;
   if (area < 0) {
-    std::swap(v1, v2);
+    std::swap(v[1], v[2]);
     area = -area;
   }
-  constexpr int64_t one = int64_t(1) << kSubpixelBits;
-  const int64_t xMin = std::max<int64_t>(0, ceilDiv(std::min({v0.x, v1.x, v2.x}), one));
-  const int64_t xMax = std::min<int64_t>(width - 1, floorDiv(std::max({v0.x, v1.x, v2.x}), one));
-  const int64_t yMin = std::max<int64_t>(0, ceilDiv(std::min({v0.y, v1.y, v2.y}), one));
-  const int64_t yMax = std::min<int64_t>(height - 1, floorDiv(std::max({v0.y, v1.y, v2.y}), one));
-  if (xMin > xMax || yMin > yMax) return;
+  const ScreenVertex &v0 = *v[0], &v1 = *v[1], &v2 = *v[2];
 
   // Edge k runs between the two corners other than corner k; its function is positive inside.
   const ScreenVertex* corner[3] = {&v0, &v1, &v2};
@@ -178,12 +218,32 @@ void rasteriseTriangle(ScreenVertex v0, ScreenVertex v1, ScreenVertex v2, int wi
     bias[k] = owned ? 0 : 1;
     rowStart[k] = dx[k] * (yMin * one - a.y) - dy[k] * (xMin * one - a.x);
   }
-  const double invArea = 1.0 / static_cast<double>(area);
-  for (int64_t y = yMin; y <= yMax; ++y) {
-    int64_t e[3] = {rowStart[0], rowStart[1], rowStart[2]};
-    for (int64_t x = xMin; x <= xMax; ++x) {
-      if (e[0] >= bias[0] && e[1] >= bias[1] && e[2] >= bias[2]) {
-        if constexpr (kNeedAttributes) {
+  if constexpr (!kNeedAttributes) {
+    // Coverage only: the covered pixel centres of a row are one run (the row meets the
+    // intersection of three half-planes in an interval), found in registers without a branch
+    // per pixel (most triangles are a few pixels: the branches would be mispredicted) and
+    // handed over at once (a store per pixel makes the loop reload whatever a byte may alias).
+    for (int64_t y = yMin; y <= yMax; ++y) {
+      int64_t e[3] = {rowStart[0], rowStart[1], rowStart[2]};
+      int64_t first = -1, last = -1;
+      for (int64_t x = xMin; x <= xMax; ++x) {
+        const bool inside = (e[0] >= bias[0]) & (e[1] >= bias[1]) & (e[2] >= bias[2]);
+        first = inside & (first < 0) ? x : first;
+        last = inside ? x : last;
+        for (int k = 0; k < 3; ++k)
+          e[k] -= dy[k] * one;
+      }
+      if (first >= 0)
+        fragment(static_cast<int>(y), static_cast<int>(first), static_cast<int>(last));
+      for (int k = 0; k < 3; ++k)
+        rowStart[k] += dx[k] * one;
+    }
+  } else {
+    const double invArea = 1.0 / static_cast<double>(area);
+    for (int64_t y = yMin; y <= yMax; ++y) {
+      int64_t e[3] = {rowStart[0], rowStart[1], rowStart[2]};
+      for (int64_t x = xMin; x <= xMax; ++x) {
+        if (e[0] >= bias[0] && e[1] >= bias[1] && e[2] >= bias[2]) {
           // Screen-space weights, then perspective correction through 1/z.
           const double w0 = static_cast<double>(e[0]) * invArea / v0.z;
           const double w1 = static_cast<double>(e[1]) * invArea / v1.z;
@@ -195,20 +255,26 @@ void rasteriseTriangle(ScreenVertex v0, ScreenVertex v1, ScreenVertex v2, int wi
                               b0 * (*v0.bary)[1] + b1 * (*v1.bary)[1] + b2 * (*v2.bary)[1],
                               b0 * (*v0.bary)[2] + b1 * (*v1.bary)[2] + b2 * (*v2.bary)[2]};
           fragment(static_cast<int>(x), static_cast<int>(y), depth, bary);
-        } else {
-          fragment(static_cast<int>(x), static_cast<int>(y), 0.0, Vec3d{});
         }
+        for (int k = 0; k < 3; ++k)
+          e[k] -= dy[k] * one;
       }
       for (int k = 0; k < 3; ++k)
-        e[k] -= dy[k] * one;
+        rowStart[k] += dx[k] * one;
     }
-    for (int k = 0; k < 3; ++k)
-      rowStart[k] += dx[k] * one;
   }
 }
 
+// llround(ldexp(v, kSubpixelBits)) for a snappable |v| <= 2^21, without the two library
+// calls: the scaling by a power of two is exact, the truncation and its remainder are exact
+// below 2^52, and ties round away from zero as in llround.
 int64_t snap(double v) {
-  return std::llround(std::ldexp(v, kSubpixelBits));
+  const double scaled = v * double(int64_t(1) << kSubpixelBits);
+  int64_t i = static_cast<int64_t>(scaled);
+  const double remainder = scaled - static_cast<double>(i);
+  if (remainder >= 0.5) ++i;
+  if (remainder <= -0.5) --i;
+  return i;
 }
 
 // The largest |pixel coordinate| the integer stage takes: edge functions multiply differences
@@ -221,19 +287,37 @@ bool snappable(const Vec2d& pixel) {
   return std::fabs(pixel[0]) <= kMaxPixelCoordinate && std::fabs(pixel[1]) <= kMaxPixelCoordinate;
 }
 
+// A vertex's snapped pixel position (|x|, |y| <= 2^29), or kSlow in x (see rasteriseMesh).
+constexpr int32_t kSlow = std::numeric_limits<int32_t>::min();
+struct Snapped {
+  int32_t x = kSlow, y = 0;
+};
+
 // Clips, projects and rasterises every triangle of the mesh; fragment(triangle, x, y, depth,
-// bary) receives every covered pixel, triangle by triangle in index order.
+// bary) receives every covered pixel (without attributes: fragment(triangle, y, x0, x1) every
+// covered run of a row), triangle by triangle in index order.
 template <bool kNeedAttributes, class Fragment>
 void rasteriseMesh(const Mesh& mesh, const Camera& camera, const RasterOptions& options,
-                   Fragment fragment) {
-  check(camera.width > 0 && camera.height > 0 && camera.width <= (1 << 15) &&
-            camera.height <= (1 << 15),
-        "rasterise: camera '" + camera.name + "' has an invalid image size");
-  check(options.zNear > 0, "rasterise: zNear must be positive");
-  const ClipVolume volume = clipVolume(camera, options.zNear);
+                   const ClipVolume& volume, Fragment fragment) {
+  // Per vertex, once: its camera coordinates and, for a "fast" vertex, its snapped pixel
+  // position. A fast vertex is finite and below 1e300 in magnitude (so a triangle of three
+  // passes the finiteness test below), inside every clip plane, and projects to a
+  // representable pixel position. A triangle of three fast corners needs no clipping and
+  // projects exactly these corners, so sharing them between the triangles around a vertex
+  // (about six) gives the very fixed-point corners that projecting per triangle gives, at a
+  // sixth of the cost; the loop over such triangles reads 8 bytes per corner. Every other
+  // triangle takes the general path below.
   std::vector<Vec3d> cameraPoints(mesh.positions.size());
-  for (size_t i = 0; i < mesh.positions.size(); ++i)
-    cameraPoints[i] = camera.toCamera(mesh.positions[i]);
+  std::vector<Snapped> snapped(mesh.positions.size());
+  for (size_t i = 0; i < mesh.positions.size(); ++i) {
+    const Vec3d& p = cameraPoints[i] = camera.toCamera(mesh.positions[i]);
+    const bool small =
+        std::fabs(p[0]) < 1e300 && std::fabs(p[1]) < 1e300 && std::fabs(p[2]) < 1e300;
+    if (!small || !volume.contains(p)) continue;
+    const Vec2d pixel = camera.projectCameraPoint(p);
+    if (snappable(pixel))
+      snapped[i] = {static_cast<int32_t>(snap(pixel[0])), static_cast<int32_t>(snap(pixel[1]))};
+  }
   static const Vec3d kCornerBary[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
 
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -242,20 +326,41 @@ void rasteriseMesh(const Mesh& mesh, const Camera& camera, const RasterOptions& 
       if (v >= cameraPoints.size())
         throw Error("rasterise: triangle " + std::to_string(t) +
                     " has a vertex index out of range");
+    // Per pixel (x, y, depth, bary), or per run of a row (y, x0, x1) without attributes.
+    auto perPixel = [&](auto... where) { fragment(static_cast<int32_t>(t), where...); };
+    auto backFacing = [&](const Vec3d& p0, const Vec3d& p1, const Vec3d& p2) {
+      return options.cullBackFaces && dot(cross(p1 - p0, p2 - p0), p0) >= 0;
+    };
+    const Snapped& s0 = snapped[tri[0]];
+    const Snapped& s1 = snapped[tri[1]];
+    const Snapped& s2 = snapped[tri[2]];
+    if (s0.x != kSlow && s1.x != kSlow && s2.x != kSlow) {
+      // Three fast corners: finite, not clipped, projected above.
+      double z[3] = {0, 0, 0};
+      if (kNeedAttributes || options.cullBackFaces) {
+        const Vec3d& p0 = cameraPoints[tri[0]];
+        const Vec3d& p1 = cameraPoints[tri[1]];
+        const Vec3d& p2 = cameraPoints[tri[2]];
+        if (backFacing(p0, p1, p2)) continue;
+        z[0] = p0[2], z[1] = p1[2], z[2] = p2[2];
+      }
+      rasteriseTriangle<kNeedAttributes>(ScreenVertex{s0.x, s0.y, z[0], &kCornerBary[0]},
+                                         ScreenVertex{s1.x, s1.y, z[1], &kCornerBary[1]},
+                                         ScreenVertex{s2.x, s2.y, z[2], &kCornerBary[2]},
+                                         camera.width, camera.height, perPixel);
+      continue;
+    }
     const Vec3d& p0 = cameraPoints[tri[0]];
     const Vec3d& p1 = cameraPoints[tri[1]];
     const Vec3d& p2 = cameraPoints[tri[2]];
     // Non-finite corners (bad input) cover nothing rather than reach the integer stage.
     if (!std::isfinite(p0[0] + p0[1] + p0[2] + p1[0] + p1[1] + p1[2] + p2[0] + p2[1] + p2[2]))
       continue;
-    if (options.cullBackFaces && dot(cross(p1 - p0, p2 - p0), p0) >= 0) continue;
+    if (backFacing(p0, p1, p2)) continue;
     ClipVertex poly[48] = {{p0, kCornerBary[0]}, {p1, kCornerBary[1]}, {p2, kCornerBary[2]}};
     int n = 3;
-    bool inside = true;
-    for (int plane = 0; plane < volume.count && inside; ++plane)
-      for (int k = 0; k < 3; ++k)
-        if (volume.value(plane, poly[k].p) < 0) inside = false;
-    if (!inside) n = clipPolygon(poly, n, volume);
+    if (!volume.contains(p0) || !volume.contains(p1) || !volume.contains(p2))
+      n = clipPolygon(poly, n, volume);
     if (n < 3) continue;
     ScreenVertex screen[48];
     bool representable = true;
@@ -265,18 +370,25 @@ void rasteriseMesh(const Mesh& mesh, const Camera& camera, const RasterOptions& 
       if (representable) screen[k] = {snap(pixel[0]), snap(pixel[1]), poly[k].p[2], &poly[k].bary};
     }
     if (!representable) continue;
-    auto perPixel = [&](int x, int y, double depth, const Vec3d& bary) {
-      fragment(static_cast<int32_t>(t), x, y, depth, bary);
-    };
     for (int k = 1; k + 1 < n; ++k)
       rasteriseTriangle<kNeedAttributes>(screen[0], screen[k], screen[k + 1], camera.width,
                                          camera.height, perPixel);
   }
 }
 
+// The checks and the clip volume of a camera (throws Error on an invalid set-up).
+ClipVolume prepareCamera(const Camera& camera, const RasterOptions& options) {
+  check(camera.width > 0 && camera.height > 0 && camera.width <= (1 << 15) &&
+            camera.height <= (1 << 15),
+        "rasterise: camera '" + camera.name + "' has an invalid image size");
+  check(options.zNear > 0, "rasterise: zNear must be positive");
+  return clipVolume(camera, options.zNear);
+}
+
 }  // namespace
 
 Fragments rasterise(const Mesh& mesh, const Camera& camera, const RasterOptions& options) {
+  const ClipVolume volume = prepareCamera(camera, options);
   Fragments f;
   f.width = camera.width;
   f.height = camera.height;
@@ -285,7 +397,7 @@ Fragments rasterise(const Mesh& mesh, const Camera& camera, const RasterOptions&
   f.barycentric.assign(n, {0.f, 0.f, 0.f});
   std::vector<double> zBuffer(n, std::numeric_limits<double>::infinity());
   rasteriseMesh<true>(
-      mesh, camera, options, [&](int32_t t, int x, int y, double depth, const Vec3d& bary) {
+      mesh, camera, options, volume, [&](int32_t t, int x, int y, double depth, const Vec3d& bary) {
         const size_t i = f.index(x, y);
         if (!(depth < zBuffer[i])) return;
         zBuffer[i] = depth;
@@ -298,13 +410,40 @@ Fragments rasterise(const Mesh& mesh, const Camera& camera, const RasterOptions&
 }
 
 Image renderMask(const Mesh& mesh, const Camera& camera, const RasterOptions& options) {
+  return MaskRenderer(camera, options).render(mesh);
+}
+
+struct MaskRenderer::Setup {
+  Camera camera;
+  RasterOptions options;
+  ClipVolume volume;
+};
+
+MaskRenderer::MaskRenderer(const Camera& camera, const RasterOptions& options) {
   check(camera.width > 0 && camera.height > 0,
         "renderMask: camera '" + camera.name + "' has an invalid image size");
+  setup_ = std::make_unique<const Setup>(Setup{camera, options, prepareCamera(camera, options)});
+}
+
+MaskRenderer::~MaskRenderer() = default;
+MaskRenderer::MaskRenderer(MaskRenderer&&) noexcept = default;
+MaskRenderer& MaskRenderer::operator=(MaskRenderer&&) noexcept = default;
+
+const Camera& MaskRenderer::camera() const {
+  return setup_->camera;
+}
+
+Image MaskRenderer::render(const Mesh& mesh) const {
+  const Camera& camera = setup_->camera;
   Image mask(camera.width, camera.height, 1, 0);
-  rasteriseMesh<false>(mesh, camera, options, [&](int32_t, int x, int y, double, const Vec3d&) {
-    mask.pixels[static_cast<size_t>(y) * static_cast<size_t>(mask.width) + static_cast<size_t>(x)] =
-        255;
-  });
+  uint8_t* pixels = mask.pixels.data();
+  const size_t width = static_cast<size_t>(mask.width);
+  rasteriseMesh<false>(mesh, camera, setup_->options, setup_->volume,
+                       [pixels, width](int32_t, int y, int x0, int x1) {
+                         std::memset(
+                             pixels + static_cast<size_t>(y) * width + static_cast<size_t>(x0), 255,
+                             static_cast<size_t>(x1 - x0 + 1));
+                       });
   return mask;
 }
 

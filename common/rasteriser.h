@@ -32,6 +32,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "common/camera.h"
@@ -66,6 +67,24 @@ Fragments rasterise(const Mesh& mesh, const Camera& camera, const RasterOptions&
 // The object mask: a grey image, 255 where any triangle covers the pixel centre, 0 elsewhere
 // (no z-test needed, so back faces and hidden triangles count too).
 Image renderMask(const Mesh& mesh, const Camera& camera, const RasterOptions& options = {});
+
+// renderMask for many meshes seen by one camera (e.g. an object's shape frame after frame): the
+// checks and the camera's clip volume (for a distorting lens, the undistorted image border) are
+// set up once, when it is made. render(mesh) == renderMask(mesh, camera, options); render may
+// be called from several threads at once.
+class MaskRenderer {
+ public:
+  explicit MaskRenderer(const Camera& camera, const RasterOptions& options = {});
+  ~MaskRenderer();
+  MaskRenderer(MaskRenderer&&) noexcept;
+  MaskRenderer& operator=(MaskRenderer&&) noexcept;
+  const Camera& camera() const;
+  Image render(const Mesh& mesh) const;
+
+ private:
+  struct Setup;
+  std::unique_ptr<const Setup> setup_;
+};
 
 // The depth map: camera z of the nearest surface per pixel, +infinity where empty.
 std::vector<float> renderDepth(const Mesh& mesh, const Camera& camera,

@@ -8,7 +8,9 @@ namespace tdvo {
 
 namespace {
 
-int roundDownToMacroblock(int v) { return v / kMacroblockSize * kMacroblockSize; }
+int roundDownToMacroblock(int v) {
+  return v / kMacroblockSize * kMacroblockSize;
+}
 int roundUpToMacroblock(int v) {
   return (v + kMacroblockSize - 1) / kMacroblockSize * kMacroblockSize;
 }
@@ -17,6 +19,10 @@ int roundUpToMacroblock(int v) {
 
 Image textureShape(const IntMesh& decoded, const Grid& grid, const Camera& camera) {
   return renderMask(grid.dequantise(decoded), camera);
+}
+
+Image textureShape(const Mesh& dequantised, const MaskRenderer& camera) {
+  return camera.render(dequantised);
 }
 
 TextureBox macroblockBox(const Image& mask, int margin) {

@@ -10,6 +10,7 @@
 #include "common/grid.h"
 #include "common/image.h"
 #include "common/mesh.h"
+#include "common/rasteriser.h"
 
 namespace tdvo {
 
@@ -26,6 +27,11 @@ struct TextureBox {
 
 // The object mask (255 inside, 0 outside) of a decoded mesh seen by `camera`.
 Image textureShape(const IntMesh& decoded, const Grid& grid, const Camera& camera);
+// The same from the decoded mesh already dequantised (grid.dequantise(decoded)) and the
+// camera's rasteriser set up once (MaskRenderer(camera)): what encoder and decoder use, frame
+// after frame, so that the cameras of a frame share one dequantisation and every frame of a
+// camera one set-up.
+Image textureShape(const Mesh& dequantised, const MaskRenderer& camera);
 
 // The smallest macroblock-aligned box containing every non-zero pixel of `mask`, grown by
 // `margin` pixels first (clipped to the frame); empty if the mask is empty.

@@ -1,20 +1,24 @@
 // 3dvo-dec: decodes a .3dvo stream to OBJ frames and prints per-frame MD5 lines.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <map>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "bitstream/camera_parameters.h"
+#include "bitstream/units.h"
 #include "common/app.h"
 #include "common/config.h"
+#include "common/dataset.h"
 #include "common/file_io.h"
+#include "common/image.h"
 #include "common/md5.h"
 #include "common/obj_io.h"
 #include "common/sequence.h"
-#include "bitstream/camera_parameters.h"
-#include "bitstream/units.h"
-#include "common/dataset.h"
-#include "common/image.h"
 #include "common/yuv.h"
 #include "decoder/stream_decoder.h"
 
@@ -39,7 +43,9 @@ std::vector<std::string> readMd5Lines(const std::string& path) {
   return lines;
 }
 
-std::string cameraFolder(int camera) { return "cam" + std::to_string(camera); }
+std::string cameraFolder(int camera) {
+  return "cam" + std::to_string(camera);
+}
 
 // Texture frames are named like the mesh frames, with .png: "%04d.obj" -> "%04d.png".
 std::string imagePattern(const std::string& meshPattern) {
@@ -54,7 +60,8 @@ Image cameraFrame(const YuvPicture& picture, const TextureBox& box, const Image&
   Image out(shape.width, shape.height, 4, 0);
   for (int y = 0; y < box.height && box.y + y < shape.height; ++y)
     for (int x = 0; x < box.width && box.x + x < shape.width; ++x) {
-      for (int c = 0; c < 3; ++c) out.at(box.x + x, box.y + y, c) = rgb.at(x, y, c);
+      for (int c = 0; c < 3; ++c)
+        out.at(box.x + x, box.y + y, c) = rgb.at(x, y, c);
       out.at(box.x + x, box.y + y, 3) = shape.at(box.x + x, box.y + y) ? 255 : 0;
     }
   return out;
@@ -107,6 +114,8 @@ int main(int argc, char** argv) {
   return runApp("3dvo-dec", [&]() {
     std::string extractDir, streamPath, outputDir, meshPattern = "%04d.obj", verifyPath;
     bool trace = false;
+    int threads = 1;
+    int maxVertexFramesPerByte = static_cast<int>(kDefaultMaxVertexFramesPerByte);
     OptionTable table("3dvo-dec", "3dvo-dec -i STREAM.3dvo [-o OUTDIR] [--verify MD5LOG]");
     table.section("Decoder");
     table.add("BitstreamFile", streamPath, "the .3dvo stream to decode", "-i");
@@ -119,7 +128,14 @@ int main(int argc, char** argv) {
     table.add("ExtractTextures", extractDir,
               "write each camera's H.264 texture stream to this folder as cam<c>.264 (Annex B)",
               "--extract-textures");
+    table.add("MaxVertexFramesPerByte", maxVertexFramesPerByte, 0, 1 << 30,
+              "refuse a stream declaring more decoded vertices x frames than this per stream "
+              "byte read (a GOM's frames x its I mesh's vertices, summed; docs/robustness.md); "
+              "0 = no limit");
     table.add("Trace", trace, "print every syntax element read to stderr", "--trace");
+    table.add("Threads", threads, 0, 256,
+              "cameras whose textures are decoded in parallel (0 = hardware concurrency); the "
+              "output, the MD5 lines and any error are the same for any value");
     if (!table.parseCommandLine(argc, argv)) return 0;
     check(!streamPath.empty(), "no stream given (-i STREAM.3dvo; see --help)");
     checkFramePattern(meshPattern, "OutputMeshPattern");
@@ -147,6 +163,9 @@ int main(int argc, char** argv) {
     UnitFileReader units(streamPath, streamPath);
     const uint64_t streamBytes = units.fileSize();
     StreamDecoder decoder(units, streamPath, trace ? stderr : nullptr);
+    decoder.setMaxVertexFramesPerByte(static_cast<uint64_t>(maxVertexFramesPerByte));
+    decoder.setThreads(
+        threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency())));
     StagedFiles outputs;
     uint64_t vertexFrames = 0;
     int frames = 0;
@@ -155,11 +174,14 @@ int main(int argc, char** argv) {
       std::printf("%s\n", line.c_str());
       if (verifyPath.empty()) return;
       check(lines < expected.size(), verifyPath + ": has no line for '" + line + "'");
-      check(expected[lines] == line,
-            verifyPath + ": line " + std::to_string(lines + 1) + " of its MD5 lines differs: "
-                "expected '" + expected[lines] + "', decoded '" + line + "'");
+      check(expected[lines] == line, verifyPath + ": line " + std::to_string(lines + 1) +
+                                         " of its MD5 lines differs: "
+                                         "expected '" +
+                                         expected[lines] + "', decoded '" + line + "'");
       ++lines;
     };
+    std::mutex pngMutex;
+    std::map<std::pair<int, int>, std::vector<uint8_t>> pngs;  // (frame, camera): to be written
     decoder.decode(
         [&](int frame, const IntMesh& mesh) {
           report(geometryHashLine(frame, mesh));
@@ -169,24 +191,37 @@ int main(int argc, char** argv) {
           vertexFrames += mesh.positions.size();
           frames = frame + 1;
         },
-        [&](int frame, int camera, const YuvPicture& picture, const Image& shape) {
+        [&](int frame, int camera, const YuvPicture& picture, const Image&) {
           report(textureHashLine(frame, camera, picture));
           if (outputDir.empty()) return;
-          const CameraParameters& c = decoder.sequenceHeader().cameras[camera];
+          std::vector<uint8_t> png;
+          {
+            std::lock_guard<std::mutex> lock(pngMutex);
+            const auto made = pngs.find({frame, camera});
+            png = std::move(made->second);
+            pngs.erase(made);
+          }
           const std::string folder = outputDir + "/" + cameraFolder(camera);
           makeDirectories(folder);
-          const std::vector<uint8_t> png = encodePng(cameraFrame(picture, textureBox(c), shape));
           outputs.write(folder + "/" + framePath(imagePattern(meshPattern), frame), png.data(),
                         png.size());
+        },
+        // The PNGs are made where the pictures are decoded (on Threads threads), then written
+        // above in order.
+        outputDir.empty() ? TextureCallback() : [&](int frame, int camera,
+                                                    const YuvPicture& picture, const Image& shape) {
+          const CameraParameters& c = decoder.sequenceHeader().cameras[camera];
+          std::vector<uint8_t> png = encodePng(cameraFrame(picture, textureBox(c), shape));
+          std::lock_guard<std::mutex> lock(pngMutex);
+          pngs[{frame, camera}] = std::move(png);
         });
     if (!verifyPath.empty())
       check(expected.size() == lines, verifyPath + ": has " + std::to_string(expected.size()) +
-                                           " MD5 lines, the stream gives " +
-                                           std::to_string(lines));
+                                          " MD5 lines, the stream gives " + std::to_string(lines));
     if (!outputDir.empty() && !decoder.sequenceHeader().cameras.empty())
-      outputs.write(outputDir + "/" + kDatasetFileName,
-                    formatDataset(decodedDataset(decoder, outputDir, meshPattern, frames),
-                                  outputDir));
+      outputs.write(
+          outputDir + "/" + kDatasetFileName,
+          formatDataset(decodedDataset(decoder, outputDir, meshPattern, frames), outputDir));
     if (!extractDir.empty()) extractTextures(streamPath, streamPath, extractDir, outputs);
     outputs.commit();
     createdFolder.keep = true;

@@ -1,12 +1,15 @@
 #include "decoder/stream_decoder.h"
 
+#include <exception>
 #include <memory>
+#include <mutex>
 #include <optional>
 
 #include "bitstream/camera_parameters.h"
 #include "bitstream/units.h"
 #include "common/error.h"
 #include "common/keyframes.h"
+#include "common/ordered_parallel.h"
 #include "decoder/h264_decoder.h"
 #include "decoder/imesh_decoder.h"
 #include "decoder/pmesh_decoder.h"
@@ -56,7 +59,8 @@ T parseUnit(const UnitView& unit, const std::string& name, std::FILE* trace,
 
 }  // namespace
 
-void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& onTexture) {
+void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& onTexture,
+                           const TextureCallback& prepareTexture) {
   std::optional<UnitReader> inMemory;
   if (!source_) inMemory.emplace(data_, size_, name_);
   UnitSource& units = source_ ? *source_ : *inMemory;
@@ -78,42 +82,102 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
   PMeshWorkspace work;
   PMeshUnit pm;
   uint32_t nextFrame = 0;
-  // Textures: one H.264 decoder per camera; the GOM's decoded meshes give the shapes.
-  std::vector<Camera> cameras;
+  // The decoding-work limit (kDefaultMaxVertexFramesPerByte): `frames` more frames of a
+  // `vertices`-vertex I mesh, declared by the GOM at `gomWhere`; `unit` is that I mesh.
+  uint64_t declaredOutput = 0;  // vertex-frames, summed over the I meshes so far
+  auto limitDecodingWork = [&](const std::string& gomWhere, uint32_t frames, size_t vertices) {
+    declaredOutput += uint64_t{frames} * vertices;  // < 2^20 frames x 2^24 vertices: no overflow
+    const uint64_t bytesRead = unit.payloadOffset + unit.size + 4;  // through the unit's CRC
+    const uint64_t limit = maxVertexFramesPerByte_;
+    // declared > limit x bytes, without overflowing the product.
+    if (limit == 0 || declaredOutput == 0 || (declaredOutput - 1) / bytesRead < limit) return;
+    throw Error(gomWhere + ": " + std::to_string(frames) + " frames x " + std::to_string(vertices) +
+                " vertices take the decoded output to " + std::to_string(declaredOutput) +
+                " vertex-frames from " + std::to_string(bytesRead) +
+                " stream bytes, more than the limit of " + std::to_string(limit) +
+                " vertex-frames per stream byte (MaxVertexFramesPerByte)");
+  };
+  // Textures: one H.264 decoder per camera; the GOM's decoded meshes (dequantised once per
+  // frame, for all cameras) give the shapes, through each camera's rasteriser set up once.
+  std::vector<MaskRenderer> cameras;
   std::vector<std::unique_ptr<H264Decoder>> textureDecoders;
   for (size_t c = 0; c < sh_.cameras.size(); ++c) {
-    cameras.push_back(toCamera(sh_.cameras[c], static_cast<int>(c)));
-    textureDecoders.push_back(std::make_unique<H264Decoder>(name_ + ": camera " + std::to_string(c)));
+    cameras.emplace_back(toCamera(sh_.cameras[c], static_cast<int>(c)));
+    textureDecoders.push_back(
+        std::make_unique<H264Decoder>(name_ + ": camera " + std::to_string(c)));
   }
-  std::vector<IntMesh> gomMeshes;
+  const Grid textureGrid = grid();
+  std::vector<Mesh> gomMeshes;
   auto emit = [&](int frame, const IntMesh& m) {
     onFrame(frame, m);
-    if (!cameras.empty()) gomMeshes.push_back(m);
+    if (!cameras.empty()) gomMeshes.push_back(textureGrid.dequantise(m));
   };
+  // Item i = k * cameras + c is camera c's texture of the GOM's frame k. Whichever worker
+  // needs a unit reads the units up to it, in item order, under a lock; the pictures are
+  // decoded and the shapes rasterised on threads_ threads, at most `cameras` items started and
+  // not yet consumed: item i starts only once item i - cameras (the same camera's previous
+  // picture, through the same H.264 decoder) has been consumed. Callbacks and errors come in
+  // item order on the calling thread, as in a sequential run, for any thread count.
   auto decodeTextures = [&](uint32_t first) {
-    for (size_t k = 0; k < gomMeshes.size(); ++k)
-      for (size_t c = 0; c < cameras.size(); ++c) {
-        const uint32_t frame = first + static_cast<uint32_t>(k);
-        expectUnit(UnitType::kTexture,
-                   "for the texture of camera " + std::to_string(c) + ", frame " +
-                       std::to_string(frame));
-        const TextureUnit tx = parseUnit<TextureUnit>(unit, name_, trace_, "the texture");
-        textureBytes_ += kUnitOverhead + unit.size;
-        const std::string where = name_ + ": " + unit.describe();
-        if (tx.tx_frame != frame || tx.tx_camera != c)
-          throw Error(where + ": texture of camera " + std::to_string(tx.tx_camera) +
-                      ", frame " + std::to_string(tx.tx_frame) + " but expected camera " +
-                      std::to_string(c) + ", frame " + std::to_string(frame));
-        const TextureBox box = textureBox(sh_.cameras[c]);
-        YuvPicture picture;
+    const size_t count = gomMeshes.size() * cameras.size();
+    struct Parsed {
+      TextureUnit tx;
+      std::string where;
+    };
+    std::vector<Parsed> parsed(count);
+    std::mutex readMutex;
+    size_t unitsRead = 0;          // units read so far
+    std::exception_ptr readError;  // what reading unit `unitsRead` threw
+    auto readUnit = [&](size_t i) {
+      std::lock_guard<std::mutex> lock(readMutex);
+      while (unitsRead <= i && !readError) {
         try {
-          picture = textureDecoders[c]->decode(tx.tx_access_unit, box.width, box.height);
-        } catch (const Error& e) {
-          throw Error(where + ": " + e.what());
+          const size_t c = unitsRead % cameras.size();
+          const uint32_t frame = first + static_cast<uint32_t>(unitsRead / cameras.size());
+          expectUnit(UnitType::kTexture, "for the texture of camera " + std::to_string(c) +
+                                             ", frame " + std::to_string(frame));
+          Parsed& p = parsed[unitsRead];
+          p.tx = parseUnit<TextureUnit>(unit, name_, trace_, "the texture");
+          textureBytes_ += kUnitOverhead + unit.size;
+          p.where = name_ + ": " + unit.describe();
+          if (p.tx.tx_frame != frame || p.tx.tx_camera != c)
+            throw Error(p.where + ": texture of camera " + std::to_string(p.tx.tx_camera) +
+                        ", frame " + std::to_string(p.tx.tx_frame) + " but expected camera " +
+                        std::to_string(c) + ", frame " + std::to_string(frame));
+          ++unitsRead;
+        } catch (...) {
+          readError = std::current_exception();
         }
-        const Image shape = textureShape(gomMeshes[k], grid(), cameras[c]);
-        if (onTexture) onTexture(static_cast<int>(frame), static_cast<int>(c), picture, shape);
       }
+      if (unitsRead <= i) std::rethrow_exception(readError);  // item i's own error comes first
+      return std::move(parsed[i]);
+    };
+    struct Decoded {
+      YuvPicture picture;
+      Image shape;
+    };
+    orderedParallelFor<Decoded>(
+        count, threads_, cameras.size(),
+        [&](size_t i) {
+          const Parsed p = readUnit(i);
+          const size_t k = i / cameras.size(), c = i % cameras.size();
+          const TextureBox box = textureBox(sh_.cameras[c]);
+          Decoded d;
+          try {
+            d.picture = textureDecoders[c]->decode(p.tx.tx_access_unit, box.width, box.height);
+          } catch (const Error& e) {
+            throw Error(p.where + ": " + e.what());
+          }
+          d.shape = textureShape(gomMeshes[k], cameras[c]);
+          if (prepareTexture)
+            prepareTexture(static_cast<int>(first + k), static_cast<int>(c), d.picture, d.shape);
+          return d;
+        },
+        [&](size_t i, Decoded& d) {
+          if (onTexture)
+            onTexture(static_cast<int>(first + i / cameras.size()),
+                      static_cast<int>(i % cameras.size()), d.picture, d.shape);
+        });
     gomMeshes.clear();
   };
 
@@ -139,26 +203,29 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
       throw Error(gomWhere + ": gh_max_octree_depth " + std::to_string(gh.gh_max_octree_depth) +
                   " exceeds sh_grid_bits " + std::to_string(sh_.sh_grid_bits));
 
-    auto readIMesh = [&](uint32_t frame) {
+    // `frames`: the frames made from this I mesh's vertices (the GOM's; 1 in an intra GOM).
+    auto readIMesh = [&](uint32_t frame, uint32_t frames) {
       expectUnit(UnitType::kIMesh, "for frame " + std::to_string(frame));
       const IMeshUnit im = parseUnit<IMeshUnit>(unit, name_, trace_, "the I mesh");
       const std::string where = name_ + ": " + unit.describe();
       if (im.im_frame != frame)
         throw Error(where + ": im_frame " + std::to_string(im.im_frame) + " but expected " +
                     std::to_string(frame));
-      return decodeIMesh(im.im_draco_payload, sh_.sh_grid_bits, where);
+      IntMesh decoded = decodeIMesh(im.im_draco_payload, sh_.sh_grid_bits, where);
+      limitDecodingWork(gomWhere, frames, decoded.positions.size());
+      return decoded;
     };
 
     if (mode == PMeshMode::kIntra) {
       for (uint32_t k = 0; k < gh.gh_frame_count; ++k, ++nextFrame)
-        emit(static_cast<int>(nextFrame), readIMesh(nextFrame));
+        emit(static_cast<int>(nextFrame), readIMesh(nextFrame, 1));
       decodeTextures(gh.gh_first_frame);
       continue;
     }
 
     // Buffers reused through the GOM and the next ones (no allocation per frame): the
     // previous keyframe, the keyframe being decoded, and the frame handed to onFrame.
-    mesh = readIMesh(nextFrame);
+    mesh = readIMesh(nextFrame, gh.gh_frame_count);
     GomTopology topology;
     if (mode == PMeshMode::kD3dmc) try {
         topology = GomTopology::build(mesh);
@@ -178,11 +245,10 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
                     std::to_string(frame));
       const std::vector<uint8_t>& payload = pm.pm_cabac_payload;
       if (mode == PMeshMode::kD3dmc)
-        decodePMesh(payload.data(), payload.size(), topology, previous, pmParams, where, work,
-                    key, trace_);
+        decodePMesh(payload.data(), payload.size(), topology, previous, pmParams, where, work, key,
+                    trace_);
       else
-        decodeTemporalDpcm(payload.data(), payload.size(), previous, pmParams, where, key,
-                           trace_);
+        decodeTemporalDpcm(payload.data(), payload.size(), previous, pmParams, where, key, trace_);
       for (int f = a + 1; f < b; ++f) {
         interpolateFrame(previous, key, a, b, f, mesh.positions);
         emit(static_cast<int>(gh.gh_first_frame + f), mesh);

@@ -15,6 +15,14 @@
 
 namespace tdvo {
 
+// Decoding-work limit (docs/robustness.md, "Limits and decoding work"): the decoded output
+// declared so far, summed over the GOMs (a GOM's frames times its I mesh's vertices; in intra
+// GOMs each I mesh's vertices), may be at most this many vertex-frames per byte of the stream
+// read so far, through the I mesh that declares it. Checked before any frame of the GOM is
+// decoded from that I mesh, so decoding time is linear in the stream size. 2^16 passes any GOM
+// length whose I mesh costs at least one byte per vertex.
+constexpr uint64_t kDefaultMaxVertexFramesPerByte = uint64_t{1} << 16;
+
 // Called once per decoded frame, in frame order; `frame` counts from 0.
 using FrameCallback = std::function<void(int frame, const IntMesh& mesh)>;
 
@@ -36,7 +44,20 @@ class StreamDecoder {
 
   // Decodes everything, calling `onFrame` as each frame is finished. Throws Error, naming the
   // unit and byte offset, on any malformed, truncated or inconsistent stream.
-  void decode(const FrameCallback& onFrame, const TextureCallback& onTexture = {});
+  // `prepareTexture`, when given, is called for every texture picture before its onTexture
+  // call, on the thread that decoded it: with setThreads(n > 1) on worker threads, several at
+  // once and in no particular order, so it must be safe to call concurrently. It is for work on
+  // a picture that may run in parallel (e.g. compressing it for output); what it leaves for
+  // onTexture is visible there. An exception it throws comes out in picture order.
+  void decode(const FrameCallback& onFrame, const TextureCallback& onTexture = {},
+              const TextureCallback& prepareTexture = {});
+
+  // Sets the decoding-work limit (kDefaultMaxVertexFramesPerByte above); 0 lifts it.
+  void setMaxVertexFramesPerByte(uint64_t limit) { maxVertexFramesPerByte_ = limit; }
+  // Decodes the cameras' textures on this many threads (default 1: on the calling thread).
+  // Each camera's pictures are decoded in order; onFrame and onTexture, their order and thread
+  // (the calling one), the output and any error are the same for every thread count.
+  void setThreads(int threads) { threads_ = threads; }
 
   // Valid once decode() has read the sequence header.
   const SequenceHeader& sequenceHeader() const { return sh_; }
@@ -52,6 +73,8 @@ class StreamDecoder {
   std::FILE* trace_;
   SequenceHeader sh_;
   uint64_t textureBytes_ = 0;
+  uint64_t maxVertexFramesPerByte_ = kDefaultMaxVertexFramesPerByte;
+  int threads_ = 1;
 };
 
 // Grid defined by a sequence header.

@@ -1,5 +1,6 @@
 #include "encoder/encoder_params.h"
 
+#include <algorithm>
 #include <thread>
 
 #include "common/error.h"
@@ -19,6 +20,9 @@ void EncoderParams::registerOptions(OptionTable& t) {
         "bits per coordinate of the integer grid spanning the sequence's bounding box");
   t.add("GOMSize", gomSize, 1, static_cast<int>(kMaxGomFrames),
         "frames per group of meshes (GOM); each GOM starts with an I mesh");
+  t.add("GOMListFile", gomListFile,
+        "instead of GOMSize: a GOM list file (3dvo-recon's goms.txt): one '<first frame> "
+        "<frame count>' line per GOM, frames counted from FirstFrame, tiling the coded frames");
   t.addEnum(
       "PMeshMode", pmeshMode,
       {{"d3dmc", PMeshMode::kD3dmc}, {"intra", PMeshMode::kIntra}, {"afxic", PMeshMode::kAfxic}},
@@ -50,11 +54,13 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.add("Dataset", dataset,
         "dataset folder (docs/dataset.md) with the cameras and their videos: when set, every "
         "camera's texture is coded; without InputMeshPattern its meshes are the geometry");
-  t.addEnum("TextureMode", textureMode, {{"bbox", TextureBoxMode::kBox}, {"full", TextureBoxMode::kFull}},
+  t.addEnum("TextureMode", textureMode,
+            {{"bbox", TextureBoxMode::kBox}, {"full", TextureBoxMode::kFull}},
             "what each camera's H.264 pictures cover: bbox = the object's macroblock-aligned "
             "bounding box over the sequence; full = the whole camera frame");
   t.addEnum("TexturePadding", texturePadding,
-            {{"mb128", TexturePadding::kMb128}, {"none", TexturePadding::kNone},
+            {{"mb128", TexturePadding::kMb128},
+             {"none", TexturePadding::kNone},
              {"extrapolate", TexturePadding::kExtrapolate}},
             "pixels outside the object's shape: none = left as they are; mb128 = macroblocks "
             "the shape does not touch set to Y=Cb=Cr=128; extrapolate = mb128 plus MPEG-4-style "
@@ -84,6 +90,19 @@ int EncoderParams::threadCount() const {
   return hardware > 0 ? static_cast<int>(hardware) : 1;
 }
 
+// A GOM list may hold any GOM the stream can carry.
+static_assert(static_cast<uint32_t>(kGomListMaxCount) == kMaxGomFrames);
+
+GomList EncoderParams::goms(size_t frameCount) const {
+  if (!gomListFile.empty()) return readGomList(gomListFile, frameCount);
+  check(gomSize >= 1, "GOMSize must be at least 1");
+  GomList list;
+  for (size_t first = 0; first < frameCount; first += static_cast<size_t>(gomSize))
+    list.emplace_back(static_cast<int>(first),
+                      static_cast<int>(std::min(static_cast<size_t>(gomSize), frameCount - first)));
+  return list;
+}
+
 void EncoderParams::validate() const {
   check(!inputMeshPattern.empty() || !dataset.empty(),
         "InputMeshPattern is not set, nor a Dataset with meshes (see --help)");
@@ -94,6 +113,8 @@ void EncoderParams::validate() const {
         "KeyframeCount and KeyframeMaxError exclude each other: set one of them");
   check(pmeshMode != PMeshMode::kIntra || (keyframeCount == 0 && keyframeMaxError == 0),
         "keyframes need P meshes: PMeshMode intra codes every frame");
+  // Before any frame is read: a bad GOM list is found at once.
+  if (!gomListFile.empty()) goms(static_cast<size_t>(frameCount));
 }
 
 }  // namespace tdvo

@@ -1,10 +1,12 @@
 // The encoder's parameters: every cfg key of 3dvo-enc, bound in one option table.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 #include "bitstream/syntax.h"
 #include "common/config.h"
+#include "common/gom_list.h"
 #include "encoder/texture_padding.h"
 
 namespace tdvo {
@@ -22,6 +24,7 @@ struct EncoderParams {
   // Geometry
   int gridBits = 12;
   int gomSize = 16;
+  std::string gomListFile;  // when set, the GOMs it lists replace GOMSize (see goms())
   PMeshMode pmeshMode = PMeshMode::kD3dmc;
   int dracoSpeed = 0;
   // P meshes
@@ -52,10 +55,17 @@ struct EncoderParams {
   double effectiveLambda() const;
   // Threads to use: Threads, or the hardware concurrency (at least 1) when Threads is 0.
   int threadCount() const;
+  // The GOMs of a sequence of `frameCount` frames, (first frame, frame count) in stream frame
+  // numbers, tiling frames 0 .. frameCount - 1 in order: those GOMListFile lists (read and
+  // checked here; an Error names the file and line of what is wrong), else GOMSize frames each,
+  // the last one shorter when GOMSize does not divide frameCount. Each GOM starts with an I mesh
+  // and, with textures, an IDR picture; keyframes are chosen inside each GOM.
+  GomList goms(size_t frameCount) const;
 
   // Binds every field to its cfg key (the single list of keys; docs/options.md mirrors it).
   void registerOptions(OptionTable& table);
-  // Checks what single-key ranges cannot: required keys, patterns. Throws Error.
+  // Checks what single-key ranges cannot: required keys, patterns, the GOM list against
+  // FrameCount. Throws Error.
   void validate() const;
 };
 

@@ -5,12 +5,12 @@
 #include <memory>
 
 #include "common/app.h"
+#include "common/dataset.h"
 #include "common/file_io.h"
 #include "common/md5.h"
 #include "common/obj_io.h"
 #include "common/progress.h"
 #include "common/sequence.h"
-#include "common/dataset.h"
 #include "common/yuv.h"
 #include "encoder/sequence_encoder.h"
 #include "encoder/texture_encoder.h"
@@ -27,12 +27,12 @@ int main(int argc, char** argv) {
     const auto start = std::chrono::steady_clock::now();
     std::printf("# 3dvo-enc effective configuration\n%s\n", table.effectiveConfig().c_str());
 
-    // Input. OBJ frames named by a pattern are read twice, never all at once: a first pass takes
-    // the sequence's bounding box (the grid needs it) frame by frame, then the encoder reads
-    // each GOM's frames when it codes that GOM, so memory is bounded by a few GOMs, not by the
-    // sequence. A dataset is read up front, as its texture boxes need every frame's geometry
-    // (room for textures: fold that into the bounding-box pass).
-    std::vector<Mesh> frames;  // datasets only
+    // Input. OBJ frames named by a pattern are read frame by frame, never all at once: a first
+    // pass takes the sequence's bounding box (the grid needs it), with a dataset a second one
+    // its texture boxes, then the encoder reads each GOM's frames when it codes that GOM, so
+    // memory is bounded by a few GOMs, not by the sequence. A dataset's own meshes are read up
+    // front (room for improvement: read them through the same passes).
+    std::vector<Mesh> frames;  // a dataset's meshes, when InputMeshPattern is not set
     std::vector<std::string> names;
     FrameSource source;
     Dataset dataset;
@@ -52,7 +52,8 @@ int main(int argc, char** argv) {
       source.read = [&frames](size_t k) { return frames[k]; };
     }
     std::unique_ptr<TextureEncoder> textures;
-    if (!params.dataset.empty()) textures = std::make_unique<TextureEncoder>(params, dataset, frames);
+    if (!params.dataset.empty())
+      textures = std::make_unique<TextureEncoder>(params, dataset, source.count, source.read);
 
     Grid grid;
     {
@@ -64,15 +65,19 @@ int main(int argc, char** argv) {
     EncodedSequence coded;
     {
       Progress progress("encoding frames", source.count);
-      coded = encodeSequence(params, grid, source, [&](int frame, const IntMesh& recon) {
-        std::printf("%s\n", geometryHashLine(frame, recon).c_str());
-        if (!params.reconMeshPattern.empty())
-          outputs.write(framePath(params.reconMeshPattern, frame),
-                        formatObj(grid.dequantise(recon)));
-        progress.tick(frame + 1);
-      }, textures.get(), [&](int frame, int camera, const YuvPicture& picture, const Image&) {
-        std::printf("%s\n", textureHashLine(frame, camera, picture).c_str());
-      });
+      coded = encodeSequence(
+          params, grid, source,
+          [&](int frame, const IntMesh& recon) {
+            std::printf("%s\n", geometryHashLine(frame, recon).c_str());
+            if (!params.reconMeshPattern.empty())
+              outputs.write(framePath(params.reconMeshPattern, frame),
+                            formatObj(grid.dequantise(recon)));
+            progress.tick(frame + 1);
+          },
+          textures.get(),
+          [&](int frame, int camera, const YuvPicture& picture, const Image&) {
+            std::printf("%s\n", textureHashLine(frame, camera, picture).c_str());
+          });
     }
     outputs.write(params.bitstreamFile, coded.stream.data(), coded.stream.size());
     outputs.commit();
@@ -83,12 +88,13 @@ int main(int argc, char** argv) {
     std::printf("# summary\n");
     std::printf("frames              : %zu\n", source.count);
     std::printf("stream              : %s\n", params.bitstreamFile.c_str());
-    std::printf("bytes               : %zu (headers %llu, I meshes %llu, P meshes %llu, "
-                "textures %llu)\n",
-                coded.stream.size(), static_cast<unsigned long long>(coded.headerBytes),
-                static_cast<unsigned long long>(coded.iMeshBytes),
-                static_cast<unsigned long long>(coded.pMeshBytes),
-                static_cast<unsigned long long>(coded.textureBytes));
+    std::printf(
+        "bytes               : %zu (headers %llu, I meshes %llu, P meshes %llu, "
+        "textures %llu)\n",
+        coded.stream.size(), static_cast<unsigned long long>(coded.headerBytes),
+        static_cast<unsigned long long>(coded.iMeshBytes),
+        static_cast<unsigned long long>(coded.pMeshBytes),
+        static_cast<unsigned long long>(coded.textureBytes));
     const double geometryBits = 8.0 * (coded.stream.size() - coded.textureBytes);
     std::printf("bits/vertex/frame   : %.4f (geometry and headers only)\n",
                 geometryBits / static_cast<double>(coded.vertexFrames));

@@ -37,7 +37,8 @@ class GomWriter {
       units_.write(unit.type, unit.payload);
     for (size_t k = 0; k < gom.frames.size(); ++k)
       emit(first + k, gom.frames[k], gom.iMeshes[gom.frames[k].iMesh]);
-    // Textures (if any) are coded here, on the calling thread, GOM after GOM.
+    // Textures (if any) are coded here, GOM after GOM, the GOM's cameras in parallel
+    // (TextureEncoder::encodeGom; each camera's H.264 state runs on from GOM to GOM).
     if (textures_) textures_->encodeGom(first, gomDecoded_, grid_, units_, onTexture_);
   }
 
@@ -137,24 +138,25 @@ EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
 
   // GOMs are coded in parallel (Threads) and written in order. Each task reads its own frames,
   // so at most 2 * Threads GOMs of frames are in memory at once, however long the sequence.
-  const size_t gomSize = static_cast<size_t>(params.gomSize);
-  const size_t goms = (source.count + gomSize - 1) / gomSize;
+  // The GOM boundaries (GOMSize, or GOMListFile's list) are decided here alone.
+  const GomList goms = params.goms(source.count);
   const int threads = params.threadCount();
   auto frameName = [&source](size_t k) {
     return source.name ? source.name(k) : "frame " + std::to_string(k);
   };
   GomWriter writer(grid, onFrame, textures, onTexture, units, out, keepInputIndex);
   orderedParallelFor<GomGeometry>(
-      goms, threads, 2 * static_cast<size_t>(threads),
+      goms.size(), threads, 2 * static_cast<size_t>(threads),
       [&](size_t g) {
-        const size_t first = g * gomSize, count = std::min(gomSize, source.count - first);
+        const size_t first = static_cast<size_t>(goms[g].first);
+        const size_t count = static_cast<size_t>(goms[g].second);
         std::vector<Mesh> frames;
         frames.reserve(count);
         for (size_t k = 0; k < count; ++k)
           frames.push_back(source.read(first + k));
         return encodeGomGeometry(params, grid, first, std::move(frames), frameName);
       },
-      [&](size_t g, GomGeometry& gom) { writer.write(g * gomSize, gom); });
+      [&](size_t g, GomGeometry& gom) { writer.write(static_cast<size_t>(goms[g].first), gom); });
 
   out.headerBytes = units.bytesOfType(UnitType::kSequenceHeader) +
                     units.bytesOfType(UnitType::kGomHeader) + sizeof kStreamMagic;

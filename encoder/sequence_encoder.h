@@ -57,7 +57,8 @@ EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
                                const FrameCallback& onFrame, TextureEncoder* textures = nullptr,
                                const TextureCallback& onTexture = {});
 
-// The same for frames read on demand: GOM by GOM, params.threadCount() GOMs coded in parallel,
+// The same for frames read on demand: GOM by GOM (params.goms(source.count): GOMSize frames
+// each, or the GOMs of GOMListFile), params.threadCount() GOMs coded in parallel,
 // the stream and every callback in the order of a sequential run (byte-identical for any
 // thread count). At most 2 * threads GOMs of frames and results are held at once. The frames'
 // vertex order is kept in frameInputIndex only when `keepInputIndex` (it grows with the

@@ -2,6 +2,7 @@
 
 #include "bitstream/camera_parameters.h"
 #include "common/error.h"
+#include "common/ordered_parallel.h"
 #include "common/rasteriser.h"
 #include "common/texture_shape.h"
 #include "decoder/h264_decoder.h"
@@ -25,27 +26,54 @@ std::vector<Mesh> readDatasetFrames(const Dataset& dataset, int firstFrame, int 
 
 TextureEncoder::TextureEncoder(const EncoderParams& params, const Dataset& dataset,
                                const std::vector<Mesh>& frames)
+    : TextureEncoder(params, dataset, frames.size(), [&frames](size_t k) { return frames[k]; }) {}
+
+TextureEncoder::TextureEncoder(const EncoderParams& params, const Dataset& dataset,
+                               size_t frameCount, const std::function<Mesh(size_t k)>& readFrame)
     : params_(params), dataset_(dataset) {
   const std::string name = dataset.resolve(kDatasetFileName);
   check(!dataset.cameras.empty(), name + ": no cameras");
   check(dataset.cameras.size() <= kMaxCameras,
         name + ": more than " + std::to_string(kMaxCameras) + " cameras");
-  check(params.firstFrame + static_cast<int>(frames.size()) <= dataset.frameCount,
-        name + ": FirstFrame + FrameCount = " + std::to_string(params.firstFrame + frames.size()) +
+  check(params.firstFrame + static_cast<int>(frameCount) <= dataset.frameCount,
+        name + ": FirstFrame + FrameCount = " + std::to_string(params.firstFrame + frameCount) +
             " but the dataset has " + std::to_string(dataset.frameCount) + " frames");
+  for (const DatasetCamera& c : dataset.cameras)
+    check(c.camera.width <= kMaxImageSize && c.camera.height <= kMaxImageSize,
+          name + ": camera " + c.camera.name + " is larger than 16384 pixels");
+  // The boxes: every frame read once (frames in parallel, Threads), its shape taken in every
+  // camera; the union over the frames does not depend on the order.
+  const size_t cameraCount = dataset.cameras.size();
+  std::vector<TextureBox> boxes(cameraCount);
+  if (params.textureMode == TextureBoxMode::kFull) {
+    for (size_t c = 0; c < cameraCount; ++c)
+      boxes[c] = fullFrameBox(dataset.cameras[c].camera.width, dataset.cameras[c].camera.height);
+  } else {
+    std::vector<MaskRenderer> renderers;
+    for (const DatasetCamera& c : dataset.cameras)
+      renderers.emplace_back(c.camera);
+    const int threads = params.threadCount();
+    orderedParallelFor<std::vector<TextureBox>>(
+        frameCount, threads, 2 * static_cast<size_t>(threads),
+        [&](size_t k) {
+          const Mesh mesh = readFrame(k);
+          std::vector<TextureBox> frameBoxes(cameraCount);
+          for (size_t c = 0; c < cameraCount; ++c)
+            frameBoxes[c] = macroblockBox(renderers[c].render(mesh), params.textureBoxMargin);
+          return frameBoxes;
+        },
+        [&](size_t, std::vector<TextureBox>& frameBoxes) {
+          for (size_t c = 0; c < cameraCount; ++c)
+            boxes[c] = unite(boxes[c], frameBoxes[c]);
+        });
+    for (TextureBox& box : boxes)
+      if (box.empty()) box = {0, 0, kMacroblockSize, kMacroblockSize};  // never sees the object
+  }
   for (size_t c = 0; c < dataset.cameras.size(); ++c) {
     const Camera& camera = dataset.cameras[c].camera;
-    check(camera.width <= kMaxImageSize && camera.height <= kMaxImageSize,
-          name + ": camera " + camera.name + " is larger than 16384 pixels");
-    TextureBox box;
-    if (params.textureMode == TextureBoxMode::kFull) {
-      box = fullFrameBox(camera.width, camera.height);
-    } else {
-      for (const Mesh& mesh : frames)
-        box = unite(box, macroblockBox(renderMask(mesh, camera), params.textureBoxMargin));
-      if (box.empty()) box = {0, 0, kMacroblockSize, kMacroblockSize};  // never sees the object
-    }
+    const TextureBox& box = boxes[c];
     cameras_.push_back(toParameters(camera, box));
+    shapes_.emplace_back(toCamera(cameras_.back(), static_cast<int>(c)));  // as decoded
     frames_.emplace_back(dataset, c);
     H264Settings settings;
     settings.width = box.width;
@@ -63,31 +91,52 @@ TextureEncoder::~TextureEncoder() = default;
 
 void TextureEncoder::encodeGom(size_t first, const std::vector<IntMesh>& decoded, const Grid& grid,
                                UnitWriter& units, const TextureCallback& onTexture) {
-  for (size_t k = 0; k < decoded.size(); ++k) {
-    const size_t frame = first + k;
-    for (size_t c = 0; c < cameras_.size(); ++c) {
-      const Camera camera = toCamera(cameras_[c], static_cast<int>(c));
-      const TextureBox box = textureBox(cameras_[c]);
-      const int datasetFrame = params_.firstFrame + static_cast<int>(frame);
-      Image rgb = frames_[c].frame(datasetFrame);
-      check(rgb.width == camera.width && rgb.height == camera.height,
-            dataset_.resolve(kDatasetFileName) + ": camera " + dataset_.cameras[c].camera.name +
-                " frame " + std::to_string(datasetFrame) + " is " + std::to_string(rgb.width) +
-                "x" + std::to_string(rgb.height) + ", the calibration says " +
-                std::to_string(camera.width) + "x" + std::to_string(camera.height));
-      if (rgb.channels != 3) rgb = convertChannels(rgb, 3);
-      const Image shape = textureShape(decoded[k], grid, camera);
-      const YuvPicture picture = prepareTexture(rgb, shape, box, params_.texturePadding);
-      TextureUnit tx;
-      tx.tx_frame = static_cast<uint32_t>(frame);
-      tx.tx_camera = static_cast<uint16_t>(c);
-      tx.tx_access_unit = encoders_[c]->encode(picture, k == 0);
-      const YuvPicture reconstruction =
-          decoders_[c]->decode(tx.tx_access_unit, box.width, box.height);
-      units.write(UnitType::kTexture, serialise(std::move(tx)));
-      onTexture(static_cast<int>(frame), static_cast<int>(c), reconstruction, shape);
-    }
-  }
+  // Item i = k * cameras + c is camera c's picture of the GOM's frame k. The items run on
+  // Threads threads, at most `cameras` of them started and not yet consumed: item i starts only
+  // once item i - cameras (the same camera's previous picture) has been consumed, so each
+  // camera's H.264 encoder and decoder see its pictures in order, one at a time, and the
+  // cameras of a frame are coded in parallel. Units and callbacks follow in item order
+  // (frame-major), as a sequential run gives them.
+  const size_t cameras = cameras_.size();
+  std::vector<Mesh> meshes;  // the GOM's decoded meshes, dequantised once for all cameras
+  meshes.reserve(decoded.size());
+  for (const IntMesh& mesh : decoded)
+    meshes.push_back(grid.dequantise(mesh));
+  struct Coded {
+    TextureUnit unit;
+    YuvPicture reconstruction;
+    Image shape;
+  };
+  orderedParallelFor<Coded>(
+      decoded.size() * cameras, params_.threadCount(), cameras,
+      [&](size_t i) {
+        const size_t k = i / cameras, c = i % cameras;
+        const size_t frame = first + k;
+        const Camera& camera = shapes_[c].camera();
+        const TextureBox box = textureBox(cameras_[c]);
+        const int datasetFrame = params_.firstFrame + static_cast<int>(frame);
+        Image rgb = frames_[c].frame(datasetFrame);
+        check(rgb.width == camera.width && rgb.height == camera.height,
+              dataset_.resolve(kDatasetFileName) + ": camera " + dataset_.cameras[c].camera.name +
+                  " frame " + std::to_string(datasetFrame) + " is " + std::to_string(rgb.width) +
+                  "x" + std::to_string(rgb.height) + ", the calibration says " +
+                  std::to_string(camera.width) + "x" + std::to_string(camera.height));
+        if (rgb.channels != 3) rgb = convertChannels(rgb, 3);
+        Coded coded;
+        coded.shape = textureShape(meshes[k], shapes_[c]);
+        const YuvPicture picture = prepareTexture(rgb, coded.shape, box, params_.texturePadding);
+        coded.unit.tx_frame = static_cast<uint32_t>(frame);
+        coded.unit.tx_camera = static_cast<uint16_t>(c);
+        coded.unit.tx_access_unit = encoders_[c]->encode(picture, k == 0);
+        coded.reconstruction =
+            decoders_[c]->decode(coded.unit.tx_access_unit, box.width, box.height);
+        return coded;
+      },
+      [&](size_t i, Coded& coded) {
+        const int frame = static_cast<int>(coded.unit.tx_frame);
+        units.write(UnitType::kTexture, serialise(std::move(coded.unit)));
+        onTexture(frame, static_cast<int>(i % cameras), coded.reconstruction, coded.shape);
+      });
 }
 
 }  // namespace tdvo

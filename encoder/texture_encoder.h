@@ -17,20 +17,24 @@
 #include "bitstream/units.h"
 #include "common/dataset.h"
 #include "common/grid.h"
+#include "common/rasteriser.h"
 #include "common/yuv.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/encoder_params.h"
 
 namespace tdvo {
 
-
 class H264Encoder;
 class H264Decoder;
 
 class TextureEncoder {
  public:
-  // `frames` are the input meshes (frame k = dataset frame params.firstFrame + k); they only
-  // choose the boxes.
+  // The input meshes (frame k = dataset frame params.firstFrame + k, k < frameCount) only
+  // choose the boxes: readFrame(k) is called once per frame, params.threadCount() frames at a
+  // time (it must be thread-safe), and the boxes do not depend on the thread count.
+  TextureEncoder(const EncoderParams& params, const Dataset& dataset, size_t frameCount,
+                 const std::function<Mesh(size_t k)>& readFrame);
+  // The same with the meshes in memory.
   TextureEncoder(const EncoderParams& params, const Dataset& dataset,
                  const std::vector<Mesh>& frames);
   ~TextureEncoder();
@@ -39,7 +43,10 @@ class TextureEncoder {
   const std::vector<CameraParameters>& cameras() const { return cameras_; }
 
   // Codes the textures of frames first .. first + decoded.size() - 1 (one GOM) from their
-  // decoded meshes; writes one TEXTURE unit per frame and camera (frame-major).
+  // decoded meshes; writes one TEXTURE unit per frame and camera (frame-major). The cameras
+  // are coded in parallel on params.threadCount() threads (each camera's pictures in order,
+  // x264 single-threaded), and units and onTexture calls come in frame-major order on the
+  // calling thread, so the stream and the callbacks do not depend on the thread count.
   void encodeGom(size_t first, const std::vector<IntMesh>& decoded, const Grid& grid,
                  UnitWriter& units, const TextureCallback& onTexture);
 
@@ -47,6 +54,7 @@ class TextureEncoder {
   const EncoderParams& params_;
   const Dataset& dataset_;
   std::vector<CameraParameters> cameras_;
+  std::vector<MaskRenderer> shapes_;  // per camera, as the decoder sees it
   std::vector<CameraFrames> frames_;
   std::vector<std::unique_ptr<H264Encoder>> encoders_;
   std::vector<std::unique_ptr<H264Decoder>> decoders_;

@@ -3,9 +3,10 @@
 //
 // Across runs and builds: every conformance cfg is encoded again by this build's 3dvo-enc (from
 // TDVO_BIN_DIR) and the stream must equal the committed one byte for byte. The committed streams
-// were made by a Release build, so in a Release build this is a run-to-run check, and in the
-// Debug build of scripts/sanitize.sh (which CI runs) a Debug-versus-Release check
-// (docs/robustness.md, "Determinism").
+// were made by a Release build (-O3), so in a Release build this is a run-to-run check, in the
+// sanitizer build of scripts/sanitize.sh (-O2 and instrumented; CI runs it) a check across build
+// configurations, and in a Debug build a Debug-versus-Release check (docs/robustness.md,
+// "Determinism").
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -293,6 +293,44 @@ std::vector<Unit> afxicUnits() {
   return units;
 }
 
+// `goms` d3dmc GOMs of `gomFrames` frames of a static flat n x n sheet (n^2 vertices), the
+// keyframes of each GOM its first and last frame: encoded as GOMs of 2 frames, then renumbered.
+// The frames between keyframes cost no bytes, so the decoded output per stream byte is as
+// large as the caller likes (docs/robustness.md, "Limits and decoding work").
+std::vector<Unit> staticSheetUnits(int n, uint16_t gomFrames, int goms) {
+  Mesh sheet = test::waveSheet(n, n, 1)[0];
+  for (Vec3d& p : sheet.positions)
+    p[2] = 0;
+  const std::vector<Mesh> frames(2 * goms, sheet);
+  EncoderParams params;
+  params.gridBits = kGridBits;
+  params.gomSize = 2;
+  params.frameCount = 2 * goms;
+  params.pmeshMode = PMeshMode::kD3dmc;
+  std::vector<Unit> units = split(encodeSequence(params, gridForSequence(frames, kGridBits), frames,
+                                                 {}, [](int, const IntMesh&) {})
+                                      .stream);
+  EXPECT_EQ(units.size(), 1u + 3u * goms);  // SH, then GH, I, P per GOM
+  putU32(units[0].payload, kShFrameCount, uint32_t{gomFrames} * goms);
+  for (int g = 0; g < goms; ++g) {
+    const uint32_t first = uint32_t{gomFrames} * g;
+    putU32(units[1 + 3 * g].payload, kGhFirstFrame, first);
+    putU16(units[1 + 3 * g].payload, kGhFrameCount, gomFrames);
+    putU16(units[1 + 3 * g].payload, kGhDelta, static_cast<uint16_t>(gomFrames - 1));
+    putU32(units[2 + 3 * g].payload, 0, first);                  // im_frame
+    putU32(units[3 + 3 * g].payload, 0, first + gomFrames - 1);  // pm_frame
+  }
+  return units;
+}
+
+// Stream bytes from its start through unit `index` (its CRC included).
+uint64_t bytesThrough(const std::vector<Unit>& units, size_t index) {
+  uint64_t bytes = sizeof kStreamMagic;
+  for (size_t i = 0; i <= index; ++i)
+    bytes += kUnitOverhead + units[i].payload.size();
+  return bytes;
+}
+
 // ---- Running the apps ----
 
 class ErrorsTest : public testing::Test {
@@ -645,6 +683,11 @@ CATALOGUE_TEST(G11) {
   std::vector<Unit> units = baseUnits();
   units.erase(units.begin() + 5);  // the second GOM header: its I mesh comes instead
   expectUnitsRow("G11", units);
+}
+
+CATALOGUE_TEST(G12) {
+  // 65535 frames of a 2500-vertex sheet from about 1 KB: 1.6 x 10^8 decoded vertex-frames.
+  expectUnitsRow("G12", staticSheetUnits(50, 65535, 1));
 }
 
 // ---- I mesh ----
@@ -1056,6 +1099,57 @@ CATALOGUE_TEST(C20) {
   expectCfgRow("C20", "", {"-o", "no-such-folder/x.3dvo"});
 }
 
+// GOMListFile rows: the list is goms.txt beside x.cfg (one coded frame unless the cfg says so).
+CATALOGUE_TEST(C21) {
+  expectCfgRow("C21", "GOMListFile : missing.txt\n");
+}
+
+CATALOGUE_TEST(C22) {
+  for (const char* line : {"1 x", "1", "1 1 1", "1 1.5", "one 1"}) {
+    test::writeText(dir_.file("goms.txt"), std::string("0 1\n") + line + "\n");
+    expectCfgRow("C22", "GOMListFile : goms.txt\n");
+  }
+}
+
+CATALOGUE_TEST(C23) {
+  test::writeText(dir_.file("goms.txt"), "1 1\n");
+  expectCfgRow("C23", "GOMListFile : goms.txt\n");
+}
+
+CATALOGUE_TEST(C24) {
+  test::writeText(dir_.file("goms.txt"), "0 1\n2 1\n");
+  expectCfgRow("C24", "GOMListFile : goms.txt\n");
+}
+
+CATALOGUE_TEST(C25) {
+  test::writeText(dir_.file("goms.txt"), "0 1\n0 1\n");
+  expectCfgRow("C25", "GOMListFile : goms.txt\n");
+}
+
+CATALOGUE_TEST(C26) {
+  for (const char* count : {"0", "-1", "65536"}) {
+    test::writeText(dir_.file("goms.txt"), std::string("0 ") + count + "\n");
+    expectCfgRow("C26", "GOMListFile : goms.txt\n");
+  }
+}
+
+CATALOGUE_TEST(C27) {
+  test::writeText(dir_.file("goms.txt"), "0 2\n");
+  expectCfgRow("C27", "GOMListFile : goms.txt\n");
+}
+
+CATALOGUE_TEST(C28) {
+  test::writeText(dir_.file("goms.txt"), "0 2\n");
+  expectCfgRow("C28", "GOMListFile : goms.txt\nFrameCount : 3\n");
+}
+
+CATALOGUE_TEST(C29) {
+  for (const char* text : {"", "# no GOM\n\n"}) {
+    test::writeText(dir_.file("goms.txt"), text);
+    expectCfgRow("C29", "GOMListFile : goms.txt\n");
+  }
+}
+
 // ---- Calibration (dataset.json) and images (3dvo-import) ----
 
 // A valid dataset x/dataset.json: one 8 x 6 camera, one frame x/cam/0000.png. Each row's input
@@ -1210,6 +1304,73 @@ TEST(ImageRows, J20) {
   const std::string e = pngErrorOf(test::readBytes(
       std::string(TDVO_SOURCE_DIR) + "/fuzz/regressions/png/ihdr-32767x32767-in-69-bytes.png"));
   EXPECT_NE(e.find(catalogue().at("J20").message), std::string::npos) << e;
+}
+
+// ---- Decoding work (kDefaultMaxVertexFramesPerByte) ----
+
+// Frames decoded from `stream` with the decoding-work limit `limit`; the Error's message in
+// `error` when it throws.
+int decodeWithLimit(const std::vector<uint8_t>& stream, uint64_t limit, std::string& error) {
+  int frames = 0;
+  try {
+    StreamDecoder decoder(stream.data(), stream.size(), "x.3dvo");
+    decoder.setMaxVertexFramesPerByte(limit);
+    decoder.decode([&](int, const IntMesh&) { ++frames; });
+  } catch (const Error& e) {
+    error = e.what();
+  }
+  return frames;
+}
+
+// The limit compares the output declared by all GOMs so far with the bytes read so far, through
+// the I mesh that declares it: exactly, at the GOM it is exceeded in; 0 lifts it.
+TEST(DecodingWork, OutputPerStreamByteIsLimitedOverAllGoms) {
+  const int n = 20, gomFrames = 100;
+  const std::vector<Unit> units = staticSheetUnits(n, gomFrames, 2);
+  const std::vector<uint8_t> stream = join(units);
+  const uint64_t gomOutput = uint64_t{gomFrames} * n * n;
+  const uint64_t bytes0 = bytesThrough(units, 2), bytes1 = bytesThrough(units, 5);
+  const uint64_t need0 = (gomOutput + bytes0 - 1) / bytes0;      // for GOM 0
+  const uint64_t need1 = (2 * gomOutput + bytes1 - 1) / bytes1;  // for both
+  ASSERT_GT(need1, need0) << "the GOMs cannot tell a total limit from a per-GOM one";
+  const std::vector<size_t> offsets = unitOffsets(stream);
+  std::string error;
+  EXPECT_EQ(decodeWithLimit(stream, need1, error), 2 * gomFrames) << error;
+  EXPECT_EQ(decodeWithLimit(stream, 0, error), 2 * gomFrames) << error;
+
+  EXPECT_EQ(decodeWithLimit(stream, need1 - 1, error), gomFrames);
+  EXPECT_EQ(error, "x.3dvo: unit 4 (GOM_HEADER) at byte " + std::to_string(offsets[4]) + ": " +
+                       std::to_string(gomFrames) + " frames x " + std::to_string(n * n) +
+                       " vertices take the decoded output to " + std::to_string(2 * gomOutput) +
+                       " vertex-frames from " + std::to_string(bytes1) +
+                       " stream bytes, more than the limit of " + std::to_string(need1 - 1) +
+                       " vertex-frames per stream byte (MaxVertexFramesPerByte)");
+  error.clear();
+  EXPECT_EQ(decodeWithLimit(stream, need0 - 1, error), 0);
+  EXPECT_NE(error.find("unit 1 (GOM_HEADER) at byte " + std::to_string(offsets[1]) + ": "),
+            std::string::npos)
+      << error;
+}
+
+// 3dvo-dec's MaxVertexFramesPerByte sets the limit; 0 lifts it.
+TEST(DecodingWork, TheDecoderOptionSetsTheLimit) {
+  const std::vector<Unit> units = staticSheetUnits(20, 100, 1);
+  const uint64_t bytes = bytesThrough(units, 2), need = (uint64_t{100} * 400 + bytes - 1) / bytes;
+  TempDir dir("decoding-work");
+  test::writeBytes(dir.file("x.3dvo"), join(units));
+  const std::string dec = kBin + "/3dvo-dec";
+  for (const uint64_t limit : {need, uint64_t{0}}) {
+    const CommandResult r =
+        test::run(dir, dec, {"-i", "x.3dvo", "--MaxVertexFramesPerByte=" + std::to_string(limit)});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(test::linesStartingWith(r.out, "MD5 ").size(), 100u) << limit;
+  }
+  const CommandResult r =
+      test::run(dir, dec, {"-i", "x.3dvo", "--MaxVertexFramesPerByte=" + std::to_string(need - 1)});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("more than the limit of " + std::to_string(need - 1) + " vertex-frames"),
+            std::string::npos)
+      << r.err;
 }
 
 // ---- Exhaustive variants, at library level ----

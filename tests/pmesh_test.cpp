@@ -2,7 +2,9 @@
 // parameter combinations, and robustness against corrupt payloads.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <random>
+#include <vector>
 
 #include "common/error.h"
 #include "common/grid.h"
@@ -23,6 +25,50 @@ TEST(RoundDiv, RoundsHalvesUpForBothSigns) {
   EXPECT_EQ(roundDiv(0, 7), 0);
   EXPECT_EQ(roundDiv(6, 3), 2);
   EXPECT_EQ(roundDiv(-6, 3), -2);
+}
+
+// floorDiv divides by multiplying for small divisors; it must be floor(a / b) exactly, for
+// every divisor around and beyond that range and numerators up to the int64 extremes.
+TEST(FloorDiv, IsExactForSmallAndLargeDivisorsAndAnyNumerator) {
+  std::mt19937_64 rng(11);
+  auto reference = [](int64_t a, int64_t b) {
+    const __int128 q = __int128{a} / b, r = __int128{a} % b;
+    return int64_t(q - (r < 0 ? 1 : 0));
+  };
+  const int64_t big = int64_t{1} << 62;
+  std::vector<int64_t> numerators = {0, 1, -1, 2, -2, big, -big, INT64_MAX, INT64_MIN};
+  for (int i = 0; i < 200; ++i) {
+    const int64_t r = int64_t(rng());
+    numerators.push_back(r);
+    numerators.push_back(r >> (rng() % 63));  // every magnitude
+  }
+  for (int64_t b = 1; b <= SmallReciprocals::kCount + 8; ++b)
+    for (int64_t a : numerators) {
+      ASSERT_EQ(floorDiv(a, b), reference(a, b)) << a << " / " << b;
+      // Around the multiples of b, where a neighbouring quotient would show.
+      const int64_t m = (a / b) * b;
+      for (int64_t d : {-1, 0, 1}) {
+        if ((d < 0 && m == INT64_MIN) || (d > 0 && m == INT64_MAX)) continue;
+        ASSERT_EQ(floorDiv(m + d, b), reference(m + d, b)) << m + d << " / " << b;
+      }
+    }
+  for (int i = 0; i < 1000; ++i) {
+    const int64_t a = int64_t(rng()), b = int64_t(rng() >> (1 + rng() % 62)) + 1;
+    ASSERT_EQ(floorDiv(a, b), reference(a, b)) << a << " / " << b;
+  }
+}
+
+// residualClass is written without branches; it must be its definition (pmesh_syntax.h).
+TEST(ResidualClass, IsTheDefinition) {
+  for (int64_t count = 0; count <= 40; ++count)
+    for (int64_t sumAbs = 0; sumAbs <= 400; ++sumAbs) {
+      const int expected = count == 0           ? 0
+                           : sumAbs == 0        ? 1
+                           : sumAbs < 2 * count ? 2
+                           : sumAbs < 6 * count ? 3
+                                                : 4;
+      ASSERT_EQ(residualClass(count, sumAbs), expected) << count << ", " << sumAbs;
+    }
 }
 
 // Two triangles sharing edge 1-2: (0, 1, 2) and (2, 1, 3).

@@ -494,25 +494,6 @@ TEST(GomBuilder, AdaptiveGomsRestartWhenTheFitFails) {
   EXPECT_EQ(fixed.goms(), fixedGoms);
 }
 
-TEST(GomList, RoundTripAndErrors) {
-  const std::vector<std::pair<int, int>> goms = {{0, 5}, {5, 16}, {21, 1}};
-  EXPECT_EQ(parseGomList(formatGomList(goms), "goms.txt"), goms);
-  EXPECT_EQ(parseGomList("0 2 # first\n\n2 3\n", "x"),
-            (std::vector<std::pair<int, int>>{{0, 2}, {2, 3}}));
-  auto message = [](const std::string& text) {
-    try {
-      parseGomList(text, "goms.txt");
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  EXPECT_EQ(message("0 2\n3 1\n"), "goms.txt:2: GOM starts at frame 3, expected 2");
-  EXPECT_EQ(message("0 x\n"), "goms.txt:1: expected '<first frame> <frame count>'");
-  EXPECT_EQ(message("0 0\n"), "goms.txt:1: frame count must be in 1 .. 65535");
-  EXPECT_EQ(message("# nothing\n"), "goms.txt: no GOM listed");
-}
-
 // ---- Silhouettes ----
 
 TEST(Silhouettes, ThresholdRecipeGrowsByDilateMinusErode) {
@@ -650,6 +631,12 @@ void writeVaryingSequence(const test::TempDir& dir, int frames) {
 TEST(ReconApp, TrackedGomsEncodeAndDecodeBitExactly) {
   test::TempDir dir("recon-app");
   writeVaryingSequence(dir, 8);
+  // Frame 2 jumps to a ball three times the size elsewhere: no fit, so the GOMs differ in
+  // length (frames 0-1, 2, 3-7 at least).
+  Mesh jump = icosphere(3);
+  for (Vec3d& p : jump.positions)
+    p = 3.0 * p + Vec3d{4, 0, 0};
+  writeObj(dir.file("in/" + framePath("%04d.obj", 2)), jump);
   const test::CommandResult recon = test::run(
       dir, app("3dvo-recon"),
       {"--InputMeshPattern=in/%04d.obj", "--FrameCount=8", "-o", "out", "--DecimationFaces=2000"});
@@ -671,6 +658,23 @@ TEST(ReconApp, TrackedGomsEncodeAndDecodeBitExactly) {
     EXPECT_EQ(test::linesStartingWith(dec.out, "MD5 ").size(), static_cast<size_t>(goms[g].second));
   }
   EXPECT_EQ(frames, 8);
+
+  // The tracked GOMs as one stream through encode.cfg, which names goms.txt (GOMListFile) as
+  // the GOMs differ in length.
+  ASSERT_GE(goms.size(), 3u);
+  EXPECT_EQ(goms[1], (std::pair<int, int>{2, 1}));
+  const std::string encodeCfg = test::readText(dir.file("out/encode.cfg"));
+  EXPECT_NE(encodeCfg.find("GOMListFile      : " + dir.file("out/goms.txt")), std::string::npos)
+      << encodeCfg;
+  EXPECT_EQ(encodeCfg.find("GOMSize"), std::string::npos) << encodeCfg;
+  const test::CommandResult whole = test::run(
+      dir, app("3dvo-enc"), {"-c", dir.file("out/encode.cfg"), "--BitstreamFile=whole.3dvo"});
+  ASSERT_EQ(whole.exitCode, 0) << whole.err;
+  test::writeText(dir.file("whole.log"), whole.out);
+  const test::CommandResult wholeDec =
+      test::run(dir, app("3dvo-dec"), {"-i", "whole.3dvo", "--verify", dir.file("whole.log")});
+  EXPECT_EQ(wholeDec.exitCode, 0) << wholeDec.out << wholeDec.err;
+  EXPECT_EQ(test::linesStartingWith(wholeDec.out, "MD5 ").size(), 8u);
 
   // Fixed GOMs: one stream for the whole sequence through encode.cfg.
   const test::CommandResult fixed =

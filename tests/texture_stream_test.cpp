@@ -60,10 +60,29 @@ TEST_F(TextureApps, EncoderAndDecoderAgreeAndEncodingIsDeterministic) {
   ASSERT_EQ(frame.channels, 4);
   int opaque = 0;
   for (int y = 0; y < frame.height; ++y)
-    for (int x = 0; x < frame.width; ++x) opaque += frame.at(x, y, 3) == 255;
+    for (int x = 0; x < frame.width; ++x)
+      opaque += frame.at(x, y, 3) == 255;
   EXPECT_GT(opaque, 100);
 }
 
+// InputMeshPattern replaces the dataset's meshes as the geometry, also for the texture boxes:
+// named as the dataset's own meshes, it gives the same stream (and boxes that see the object,
+// not the one-macroblock fallback of a camera that never sees it).
+TEST_F(TextureApps, InputMeshPatternGivesTheTextureBoxesTheirFrames) {
+  const auto a = encode({"--TexturePadding=mb128"}, "a.3dvo");
+  ASSERT_EQ(a.exitCode, 0) << a.err;
+  const auto b = encode(
+      {"--TexturePadding=mb128", "--InputMeshPattern=" + kRig + "/meshes/%04d.obj"}, "b.3dvo");
+  ASSERT_EQ(b.exitCode, 0) << b.err;
+  EXPECT_EQ(test::readBytes(dir.file("a.3dvo")), test::readBytes(dir.file("b.3dvo")));
+  EXPECT_EQ(test::linesStartingWith(b.out, "MD5 "), test::linesStartingWith(a.out, "MD5 "));
+  // Too few dataset frames for FrameCount is an error also with a pattern.
+  const auto c =
+      encode({"--InputMeshPattern=" + kRig + "/meshes/%04d.obj", "--FirstFrame=1"}, "c.3dvo");
+  EXPECT_EQ(c.exitCode, 1);
+  EXPECT_NE(c.err.find("but the dataset has 6 frames"), std::string::npos) << c.err;
+  EXPECT_FALSE(fs::exists(dir.file("c.3dvo")));
+}
 TEST_F(TextureApps, ExtractedAnnexBDecodesWithTheFfmpegToolToTheSamePictures) {
   if (std::system("ffmpeg -version > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "the ffmpeg command-line tool is not installed";
@@ -73,7 +92,8 @@ TEST_F(TextureApps, ExtractedAnnexBDecodesWithTheFfmpegToolToTheSamePictures) {
   ASSERT_EQ(d.exitCode, 0) << d.err;
   for (int camera = 0; camera < 3; ++camera) {
     const std::string raw = dir.file("cam" + std::to_string(camera) + ".yuv");
-    const std::string command = "ffmpeg -v error -y -i " + dir.file("h264/cam" + std::to_string(camera) + ".264") +
+    const std::string command = "ffmpeg -v error -y -i " +
+                                dir.file("h264/cam" + std::to_string(camera) + ".264") +
                                 " -f rawvideo -pix_fmt yuv420p " + raw;
     ASSERT_EQ(std::system(command.c_str()), 0);
     const std::vector<uint8_t> bytes = test::readBytes(raw);

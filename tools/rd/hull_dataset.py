@@ -6,7 +6,8 @@ Input: a 3DVO dataset (docs/dataset.md) whose cameras have a `video` and a `back
 same cameras and videos (paths made absolute), with `meshes` set to OUT/hull.obj, one still mesh
 used for every frame; and OUT/masks/<camera>.png, the silhouettes that made it.
 
-How (a stand-in for the reconstruction of tools/recon until it lands; docs/results-texture.md):
+How (the stand-in for tools/recon's reconstruction before it landed; cfg/rd/texture.toml now
+uses tools/rd/recon_dataset.py):
 
 1. Silhouettes of frame `--frame` by background subtraction: the background is the per-pixel
    median of the first `--background-frames` frames of the background video; a pixel is

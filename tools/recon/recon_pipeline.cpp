@@ -5,11 +5,11 @@
 #include <cstdarg>
 #include <filesystem>
 #include <memory>
-#include <sstream>
 
 #include "common/dataset.h"
 #include "common/error.h"
 #include "common/file_io.h"
+#include "common/gom_list.h"
 #include "common/metrics.h"
 #include "common/obj_io.h"
 #include "common/progress.h"
@@ -158,45 +158,6 @@ struct MeshInput {
 };
 
 }  // namespace
-
-std::string formatGomList(const std::vector<std::pair<int, int>>& goms) {
-  std::string text =
-      "# 3dvo-recon GOM list: one GOM per line, <first frame> <frame count>, frames numbered "
-      "as the output OBJ files\n";
-  for (const auto& g : goms)
-    text += std::to_string(g.first) + " " + std::to_string(g.second) + "\n";
-  return text;
-}
-
-std::vector<std::pair<int, int>> parseGomList(const std::string& text, const std::string& name) {
-  std::vector<std::pair<int, int>> goms;
-  std::istringstream in(text);
-  std::string line;
-  int lineNumber = 0, next = 0;
-  while (std::getline(in, line)) {
-    ++lineNumber;
-    const size_t hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    std::istringstream fields(line);
-    long long first, count;
-    std::string extra;
-    if (!(fields >> first)) {
-      check(line.find_first_not_of(" \t\r") == std::string::npos,
-            name + ":" + std::to_string(lineNumber) + ": expected '<first frame> <frame count>'");
-      continue;
-    }
-    check(static_cast<bool>(fields >> count) && !(fields >> extra),
-          name + ":" + std::to_string(lineNumber) + ": expected '<first frame> <frame count>'");
-    check(first == next, name + ":" + std::to_string(lineNumber) + ": GOM starts at frame " +
-                             std::to_string(first) + ", expected " + std::to_string(next));
-    check(count >= 1 && count <= 65535,
-          name + ":" + std::to_string(lineNumber) + ": frame count must be in 1 .. 65535");
-    goms.emplace_back(static_cast<int>(first), static_cast<int>(count));
-    next = static_cast<int>(first + count);
-  }
-  check(!goms.empty(), name + ": no GOM listed");
-  return goms;
-}
 
 ReconResult runReconstruction(const ReconParams& params, std::FILE* log) {
   checkReconParams(params);
@@ -352,11 +313,11 @@ ReconResult runReconstruction(const ReconParams& params, std::FILE* log) {
   const std::string header =
       "# 3dvo-enc input for this 3dvo-recon output, e.g.\n"
       "#   3dvo-enc -c cfg/d3dmc-lossless.cfg -c encode.cfg --BitstreamFile=out.3dvo\n";
+  // GOMs of different lengths: the encoder takes the list itself (GOMListFile).
+  const std::string gomList = fs::absolute(fs::path(out) / "goms.txt").string();
   files.write(out + "/encode.cfg",
-              encoderCfg(pattern, 0, frameCount, frameRate, uniform ? commonSize : 0,
-                         header + (uniform ? ""
-                                           : "# The GOMs differ in length (goms.txt): code "
-                                             "them one by one with encode/gom_NNNN.cfg.\n")));
+              encoderCfg(pattern, 0, frameCount, frameRate, uniform ? commonSize : 0, header) +
+                  (uniform ? "" : "GOMListFile      : " + gomList + "\n"));
   for (size_t g = 0; g < result.goms.size(); ++g)
     files.write(out + "/encode/" + framePath("gom_%04d.cfg", static_cast<int>(g)),
                 encoderCfg(pattern, result.goms[g].first, result.goms[g].second, frameRate,

@@ -2,8 +2,9 @@
 // reconstruction and GOM building, and the outputs in the Output folder:
 //
 //   %04d.obj            the time-consistent mesh sequence (OutputMeshPattern), from 0
-//   goms.txt            the GOM list: "first count" per line
-//   encode.cfg          3dvo-enc input keys for the whole sequence (GOMSize when the GOMs allow)
+//   goms.txt            the GOM list: "first count" per line (common/gom_list.h)
+//   encode.cfg          3dvo-enc input keys for the whole sequence as one stream: GOMSize when
+//                       the GOMs have one length, else GOMListFile naming goms.txt
 //   encode/gom_%04d.cfg 3dvo-enc keys coding one GOM as a stream of its own
 //   report.txt          summary and per-frame table
 //   frames.csv          the per-frame table as CSV
@@ -15,9 +16,9 @@
 
 #include <cstdio>
 #include <string>
-#include <utility>
 #include <vector>
 
+#include "common/gom_list.h"
 #include "tools/recon/recon_params.h"
 
 namespace tdvo {
@@ -47,19 +48,13 @@ struct FrameRecord {
 
 struct ReconResult {
   std::vector<FrameRecord> frames;
-  std::vector<std::pair<int, int>> goms;  // (first output frame, count)
-  std::vector<std::string> cameras;       // used camera names
-  std::vector<std::vector<double>> iou;   // per frame, per used camera
+  GomList goms;                          // (first output frame, count)
+  std::vector<std::string> cameras;      // used camera names
+  std::vector<std::vector<double>> iou;  // per frame, per used camera
 };
 
 // Runs the reconstruction with `params` (checked first), printing one line per frame and a
 // summary to `log` (may be null), progress to stderr when it is a terminal.
 ReconResult runReconstruction(const ReconParams& params, std::FILE* log);
-
-// The GOM list text (goms.txt).
-std::string formatGomList(const std::vector<std::pair<int, int>>& goms);
-// Parses a GOM list; `name` is used in messages. Throws Error naming the line for anything
-// malformed, and when the GOMs do not follow each other from frame 0.
-std::vector<std::pair<int, int>> parseGomList(const std::string& text, const std::string& name);
 
 }  // namespace tdvo

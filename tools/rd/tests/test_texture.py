@@ -3,6 +3,7 @@ their cache keys, and a small real sweep (object PSNR, rates, BD table, page) wi
 
 import json
 import os
+import shutil
 import textwrap
 
 from tests import support
@@ -310,6 +311,83 @@ class HullDatasetTest(TempDirTestCase):
         self.assertTrue(all(os.path.isabs(c["video"]) for c in dataset["cameras"]))
         faces = [line for line in outputs[0].splitlines() if line.startswith("f ")]
         self.assertGreater(len(faces), 1000)
+
+
+class ReconDatasetTest(TempDirTestCase):
+    """tools/rd/recon_dataset.py: a dataset's cameras with a 3dvo-recon output as geometry. The
+    reconstruction is stood in for by the rig's own meshes (same files 3dvo-recon writes: OBJ
+    frames, goms.txt, frames.csv, report.txt); the result is coded by 3dvo-enc."""
+
+    def setUp(self):
+        super().setUp()
+        for name in ("3dvo-synth", "3dvo-enc"):
+            if not os.access(os.path.join(support.bin_dir(), name), os.X_OK):
+                self.skipTest("%s is not built in %s" % (name, support.bin_dir()))
+        import subprocess
+        self.rig = os.path.join(self.tmp, "rig")
+        subprocess.run([os.path.join(support.bin_dir(), "3dvo-synth"), "-o", self.rig,
+                        "--Cameras=2", "--FrameCount=4", "--Width=64", "--Height=48"],
+                       check=True, stdout=subprocess.DEVNULL)
+        self.recon = os.path.join(self.tmp, "recon")
+        os.makedirs(self.recon)
+        for k in range(3):
+            shutil.copyfile(os.path.join(self.rig, "meshes", "%04d.obj" % k),
+                            os.path.join(self.recon, "%04d.obj" % k))
+        write(os.path.join(self.recon, "goms.txt"), "# GOM list\n0 2\n2 1\n")
+        write(os.path.join(self.recon, "frames.csv"),
+              "frame,source,gom\n0,0,0\n1,1,0\n2,2,1\n")
+        write(os.path.join(self.recon, "report.txt"), "# 3dvo-recon report\n")
+        write(os.path.join(self.recon, "encode.cfg"), "InputMeshPattern : /elsewhere/%04d.obj\n")
+
+    def run_script(self, out):
+        import subprocess
+        import sys
+        return subprocess.run([sys.executable, os.path.join(support.RD_DIR, "recon_dataset.py"),
+                               "-i", self.rig, "-r", self.recon, "-o", out],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+    def test_dataset_with_the_reconstruction_as_geometry(self):
+        out = os.path.join(self.tmp, "out")
+        done = self.run_script(out)
+        self.assertEqual(done.returncode, 0, done.stderr)
+        self.assertIn("3 frames, GOMs (first, count): 0,2 2,1", done.stdout)
+        with open(os.path.join(out, "dataset.json")) as f:
+            dataset = json.load(f)
+        self.assertEqual(dataset["meshes"], "recon/%04d.obj")
+        self.assertEqual(dataset["frames"]["count"], 3)
+        self.assertTrue(all(os.path.isabs(c["images"]) for c in dataset["cameras"]))
+        self.assertIn("meshes: 3dvo-recon, frames 0 .. 2 in 2 GOMs", dataset["description"])
+        self.assertEqual(sorted(os.listdir(os.path.join(out, "recon"))),
+                         ["0000.obj", "0001.obj", "0002.obj", "frames.csv", "goms.txt",
+                          "report.txt"])
+        # Deterministic, and a valid texture input: the encoder codes it with the GOM list.
+        again = os.path.join(self.tmp, "again")
+        self.assertEqual(self.run_script(again).returncode, 0)
+        self.assertEqual(support.read_text(os.path.join(again, "dataset.json")),
+                         support.read_text(os.path.join(out, "dataset.json")))
+        import subprocess
+        enc = subprocess.run([os.path.join(support.bin_dir(), "3dvo-enc"), "--Dataset=" + out,
+                              "--FrameCount=3", "--GOMListFile=" + os.path.join(out, "recon",
+                                                                                 "goms.txt"),
+                              "--TexturePreset=ultrafast", "-o", os.path.join(self.tmp, "s.3dvo")],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        self.assertEqual(enc.returncode, 0, enc.stderr)
+        self.assertEqual(len([l for l in enc.stdout.splitlines() if " texture " in l]), 3 * 2)
+
+    def test_errors(self):
+        write(os.path.join(self.recon, "frames.csv"), "frame,source,gom\n0,5,0\n1,6,0\n2,7,1\n")
+        done = self.run_script(os.path.join(self.tmp, "a"))
+        self.assertNotEqual(done.returncode, 0)
+        self.assertIn("output frame 0 comes from dataset frame 5", done.stderr)
+        write(os.path.join(self.recon, "frames.csv"), "frame,source,gom\n0,0,0\n1,1,0\n2,2,1\n")
+        os.remove(os.path.join(self.recon, "0002.obj"))
+        done = self.run_script(os.path.join(self.tmp, "b"))
+        self.assertNotEqual(done.returncode, 0)
+        self.assertIn("0002.obj: missing", done.stderr)
+        write(os.path.join(self.recon, "goms.txt"), "0 2\n3 1\n")
+        done = self.run_script(os.path.join(self.tmp, "c"))
+        self.assertNotEqual(done.returncode, 0)
+        self.assertIn("goms.txt:2: GOM 3 1 does not follow the previous one", done.stderr)
 
 
 if __name__ == "__main__":
