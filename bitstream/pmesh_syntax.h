@@ -116,10 +116,7 @@ void codePMesh(Io& io, Decider& decider, const GomTopology& topology,
   const uint32_t n = topology.numVertices;
   io.require(previous.size() == n, "previous frame and GOM topology disagree");
   PMeshContexts ctx;
-  // One record per rank, and a zero record (not available, no residual) for the sentinel rank n
-  // that pads the rank-space rings and wings (GomTopology::kRankBlock).
-  work.vertices.assign(n + 1, PMeshVertexState());
-  work.vertices[n].motion[3] = 0;
+  work.vertices.assign(n, PMeshVertexState());
   // Raw pointers: a local pointer, unlike a vector's, is not reloaded after every store.
   PMeshVertexState* const state = work.vertices.data();
 
@@ -207,17 +204,19 @@ void codePMesh(Io& io, Decider& decider, const GomTopology& topology,
     residualRanks[numResidual] = r;
     numResidual += state[r].motion[3] == 0;
   }
-  for (uint32_t i = 0; i < numResidual; ++i) {
-    const uint32_t r = residualRanks[i];
+  for (const uint32_t* next = residualRanks; next != residualRanks + numResidual; ++next) {
+    const uint32_t r = *next;
     PMeshVertexState& sv = state[r];
     // Over the 1-ring: sN and -k (k available neighbours) from the motion lanes, the residual
-    // statistics and their count from the absResidual lanes. The lists come in whole blocks
-    // padded with the zero record; a block's sums fit in int32 (|motion|, |residual| <= 2^21).
-    constexpr uint32_t kBlock = GomTopology::kRankBlock;
+    // statistics and their count from the absResidual lanes. Lanes add in int32 in runs of at
+    // most kRun terms, each run then widened: |motion|, |residual| <= 2^21, |m_a + m_b - m_o|
+    // <= 3 * 2^21, so a run cannot overflow, and a ring of any size sums exactly.
+    constexpr uint32_t kRun = 256;
     int64_t ring[2][4] = {};
-    for (uint32_t i = neighbourStart[r]; i < neighbourStart[r + 1]; i += kBlock) {
+    for (uint32_t i = neighbourStart[r], end = neighbourStart[r + 1]; i < end; i += kRun) {
       Lanes4 m{0, 0, 0, 0}, a{0, 0, 0, 0};
-      for (uint32_t j = i; j < i + kBlock; ++j) {
+      const uint32_t runEnd = end - i > kRun ? i + kRun : end;
+      for (uint32_t j = i; j < runEnd; ++j) {
         const PMeshVertexState& u = state[neighbours[j]];
         m += u.motion;
         a += u.absResidual;
@@ -231,18 +230,19 @@ void codePMesh(Io& io, Decider& decider, const GomTopology& topology,
     Vec3i prediction = fallback;
     if (k > 0) {
       // Wings (a, b, o) with all three available: sP = sum of m_a + m_b - m_o, and -kp in lane 3
-      // (-1 - 1 + 1). |m_a + m_b - m_o| <= 3 * 2^21.
+      // (-1 - 1 + 1).
       int64_t p[4] = {};
-      for (uint32_t i = wingStart[r]; i < wingStart[r + 1]; i += kBlock) {
-        Lanes4 block{0, 0, 0, 0};
-        for (uint32_t j = i; j < i + kBlock; ++j) {
+      for (uint32_t i = wingStart[r], end = wingStart[r + 1]; i < end; i += kRun) {
+        Lanes4 run{0, 0, 0, 0};
+        const uint32_t runEnd = end - i > kRun ? i + kRun : end;
+        for (uint32_t j = i; j < runEnd; ++j) {
           const Lanes4 a = state[wings[j][0]].motion, b = state[wings[j][1]].motion,
                        o = state[wings[j][2]].motion;
           const Lanes4 all = a & b & o;
-          block += (a + b - o) & Lanes4{all[3], all[3], all[3], all[3]};
+          run += (a + b - o) & Lanes4{all[3], all[3], all[3], all[3]};
         }
         for (int c = 0; c < 4; ++c)
-          p[c] += block[c];
+          p[c] += run[c];
       }
       const int64_t kp = -p[3];
       for (int c = 0; c < 3; ++c) {

@@ -120,42 +120,25 @@ GomTopology GomTopology::build(const IntMesh& iMesh) {
     }
   }
 
-  // Rank space, each list padded with the sentinel to whole blocks.
+  // Rank space.
   t.rank.resize(n);
   for (uint32_t r = 0; r < n; ++r)
     t.rank[t.order[r]] = r;
-  const auto padded = [](uint64_t count) {
-    return (count + kRankBlock - 1) / kRankBlock * kRankBlock;
-  };
-  uint64_t neighbourSlots = 0, wingSlots = 0;
-  for (uint32_t v = 0; v < n; ++v) {
-    neighbourSlots += padded(t.neighbourStart[v + 1] - t.neighbourStart[v]);
-    wingSlots += padded(t.wingStart[v + 1] - t.wingStart[v]);
-  }
-  if (neighbourSlots > UINT32_MAX || wingSlots > UINT32_MAX)
-    throw Error("I mesh: too many neighbours for the P-mesh tables (" + std::to_string(n) +
-                " vertices)");
   t.rankNeighbourStart.resize(n + 1);
+  t.rankNeighbours.resize(t.neighbours.size());
   t.rankWingStart.resize(n + 1);
+  t.rankWings.resize(t.wings.size());
   t.rankNeighbourStart[0] = t.rankWingStart[0] = 0;
-  for (uint32_t r = 0; r < n; ++r) {
-    const uint32_t v = t.order[r];
-    t.rankNeighbourStart[r + 1] =
-        t.rankNeighbourStart[r] +
-        static_cast<uint32_t>(padded(t.neighbourStart[v + 1] - t.neighbourStart[v]));
-    t.rankWingStart[r + 1] =
-        t.rankWingStart[r] + static_cast<uint32_t>(padded(t.wingStart[v + 1] - t.wingStart[v]));
-  }
-  t.rankNeighbours.assign(t.rankNeighbourStart[n], n);
-  t.rankWings.assign(t.rankWingStart[n], {n, n, n});
   for (uint32_t r = 0; r < n; ++r) {
     const uint32_t v = t.order[r];
     uint32_t at = t.rankNeighbourStart[r];
     for (uint32_t i = t.neighbourStart[v]; i < t.neighbourStart[v + 1]; ++i)
       t.rankNeighbours[at++] = t.rank[t.neighbours[i]];
+    t.rankNeighbourStart[r + 1] = at;
     at = t.rankWingStart[r];
     for (uint32_t i = t.wingStart[v]; i < t.wingStart[v + 1]; ++i)
       t.rankWings[at++] = {t.rank[t.wings[i][0]], t.rank[t.wings[i][1]], t.rank[t.wings[i][2]]};
+    t.rankWingStart[r + 1] = at;
   }
   return t;
 }
@@ -258,11 +241,14 @@ void MortonOctree::sortItems(const std::vector<Vec3i>& positions, std::vector<It
   const int indexBits = indexBits_;
   // LSD radix sort of the keys, 12 bits per pass (at most 5 for 20-bit grids); the histograms
   // of all passes are counted while the keys are made. A pass over a digit that every key
-  // shares is skipped.
+  // shares is skipped. The first pass, the lowest 12 bits (the 4 deepest levels), is left to
+  // split() when there are others.
   constexpr int kDigitBits = 12;
   constexpr uint32_t kBuckets = 1u << kDigitBits;
   constexpr uint64_t kDigit = kBuckets - 1;
   const int passes = (3 * gridBits_ + kDigitBits - 1) / kDigitBits;
+  const int firstPass = passes > 1 ? 1 : 0;
+  unsortedDepth_ = firstPass == 1 ? gridBits_ - kDigitBits / 3 : gridBits_;
   counts_.assign(size_t(passes) * kBuckets, 0u);
   uint32_t* const counts = counts_.data();
   Item* from = items.data();
@@ -277,7 +263,8 @@ void MortonOctree::sortItems(const std::vector<Vec3i>& positions, std::vector<It
       const uint64_t key = spread(uint32_t(p[0]) & mask) << 2 | spread(uint32_t(p[1]) & mask) << 1 |
                            spread(uint32_t(p[2]) & mask);
       from[v] = Item{key} << indexBits | v;
-      ++counts[key & kDigit];  // unrolled: a loop over the passes costs more than the counting
+      // Unrolled: a loop over the passes costs more than the counting.
+      if (firstPass == 0) ++counts[key & kDigit];
       if (passes > 1) ++counts[kBuckets + (key >> kDigitBits & kDigit)];
       if (passes > 2) ++counts[2 * kBuckets + (key >> (2 * kDigitBits) & kDigit)];
       if (passes > 3) ++counts[3 * kBuckets + (key >> (3 * kDigitBits) & kDigit)];
@@ -289,7 +276,7 @@ void MortonOctree::sortItems(const std::vector<Vec3i>& positions, std::vector<It
   } else {
     makeKeys(spreadBits3Of24);
   }
-  for (int pass = 0; pass < passes; ++pass) {
+  for (int pass = firstPass; pass < passes; ++pass) {
     const int shift = indexBits + pass * kDigitBits;
     uint32_t* const count = counts + size_t(pass) * kBuckets;
     if (n == 0 || count[uint32_t(from[0] >> shift) & (kBuckets - 1)] == n) continue;
@@ -310,8 +297,7 @@ void MortonOctree::sortItems(const std::vector<Vec3i>& positions, std::vector<It
     vertices[i] = uint32_t(from[i] & indexMask);
 }
 
-void MortonOctree::split(uint32_t begin, uint32_t end, int depth,
-                         std::array<uint32_t, 9>& bounds) const {
+void MortonOctree::split(uint32_t begin, uint32_t end, int depth, std::array<uint32_t, 9>& bounds) {
   if (wide_) {
     splitItems(wideItems_, begin, end, depth, bounds);
   } else {
@@ -320,8 +306,16 @@ void MortonOctree::split(uint32_t begin, uint32_t end, int depth,
 }
 
 template <class Item>
-void MortonOctree::splitItems(const std::vector<Item>& items, uint32_t begin, uint32_t end,
-                              int depth, std::array<uint32_t, 9>& bounds) const {
+void MortonOctree::splitItems(std::vector<Item>& items, uint32_t begin, uint32_t end, int depth,
+                              std::array<uint32_t, 9>& bounds) {
+  if (depth == unsortedDepth_) {
+    // The first split at this depth: sort the cell by the digits build() left out (the whole
+    // item, as all its other key bits are equal), and every cell inside it is a range again.
+    std::sort(items.begin() + begin, items.begin() + end);
+    const Item indexMask = (Item{1} << indexBits_) - 1;
+    for (uint32_t i = begin; i < end; ++i)
+      vertices_[i] = uint32_t(items[i] & indexMask);
+  }
   const int shift = indexBits_ + 3 * (gridBits_ - 1 - depth);
   const Item* const sorted = items.data();
   auto octant = [&](uint32_t i) { return uint32_t(sorted[i] >> shift) & 7u; };

@@ -32,13 +32,6 @@ struct GomTopology {
   // rankNeighbours[rankNeighbourStart[r] .. rankNeighbourStart[r+1]) (ranks, not indices), its
   // wings rankWings[rankWingStart[r] .. rankWingStart[r+1]). A vertex's neighbours are then
   // close to it in rank, so the per-vertex records they point at share cache lines.
-  // Each ring and each list of wings is padded up to a multiple of kRankBlock entries with the
-  // sentinel rank numVertices (wings (numVertices, numVertices, numVertices)), so that loops
-  // over them run in whole blocks: for most vertices exactly one, a loop the branch predictor
-  // gets right, where a loop over the vertex's own valence ends at an unpredictable count. The
-  // sentinel stands for a vertex with no motion and no residual (codePMesh keeps a zero record
-  // for it).
-  static constexpr uint32_t kRankBlock = 8;
   std::vector<uint32_t> rank;
   std::vector<uint32_t> rankNeighbourStart, rankNeighbours;
   std::vector<uint32_t> rankWingStart;
@@ -116,13 +109,16 @@ class MortonOctree {
   // positions stay in index order). As in OctreePartition, only the low gridBits bits of each
   // coordinate count (grid positions lie in [0, 2^gridBits)). gridBits <= 20 (else throws
   // std::invalid_argument), as for any 3DVO grid.
+  // On grids of more than 4 bits the sort leaves out the digits of the 4 deepest levels, which
+  // few cells reach: split() sorts a cell of depth gridBits - 4 by them when it splits it.
   void build(const std::vector<Vec3i>& positions, int gridBits);
   // The sorted vertex indices; a cell is a range [begin, end) of this array.
   uint32_t* vertices() { return vertices_.data(); }
   uint32_t size() const { return static_cast<uint32_t>(vertices_.size()); }
   // The octant ranges of cell [begin, end) at `depth`: octant o is [bounds[o], bounds[o+1]),
-  // absolute indices into vertices(); the cell must be one of this octree's cells at `depth`.
-  void split(uint32_t begin, uint32_t end, int depth, std::array<uint32_t, 9>& bounds) const;
+  // absolute indices into vertices(); the cell must be one of this octree's cells at `depth`,
+  // reached by splitting its ancestors from the root down (as a traversal does).
+  void split(uint32_t begin, uint32_t end, int depth, std::array<uint32_t, 9>& bounds);
 
  private:
   __extension__ using Wide = unsigned __int128;
@@ -133,12 +129,13 @@ class MortonOctree {
   void sortItems(const std::vector<Vec3i>& positions, std::vector<Item>& items,
                  std::vector<Item>& scratch);
   template <class Item>
-  void splitItems(const std::vector<Item>& items, uint32_t begin, uint32_t end, int depth,
-                  std::array<uint32_t, 9>& bounds) const;
+  void splitItems(std::vector<Item>& items, uint32_t begin, uint32_t end, int depth,
+                  std::array<uint32_t, 9>& bounds);
 
   int gridBits_ = 0;
   int indexBits_ = 0;
-  bool wide_ = false;  // the items are wideItems_
+  int unsortedDepth_ = 0;  // the first depth whose octant digit build() left unsorted
+  bool wide_ = false;      // the items are wideItems_
   std::vector<uint64_t> items_, itemScratch_;
   std::vector<Wide> wideItems_, wideScratch_;
   std::vector<uint32_t> vertices_, counts_;
