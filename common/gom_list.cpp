@@ -1,5 +1,7 @@
 #include "common/gom_list.h"
 
+#include <algorithm>
+#include <cstdlib>
 #include <limits>
 #include <sstream>
 
@@ -86,6 +88,32 @@ GomList parseGomList(const std::string& text, const std::string& name, size_t fr
 GomList readGomList(const std::string& path, size_t frameCount) {
   const std::vector<uint8_t> bytes = readFileBytes(path);
   return parseGomList(std::string(bytes.begin(), bytes.end()), path, frameCount);
+}
+
+std::vector<int> readGomStarts(const std::string& path) {
+  const std::vector<uint8_t> bytes = readFileBytes(path);
+  std::istringstream in(std::string(bytes.begin(), bytes.end()));
+  std::vector<int> starts;
+  std::string line;
+  int lineNumber = 0;
+  while (std::getline(in, line)) {
+    ++lineNumber;
+    line = line.substr(0, line.find('#'));
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream fields(line);
+    std::string token;
+    while (fields >> token) {
+      char* end = nullptr;
+      const long v = std::strtol(token.c_str(), &end, 10);
+      check(end && *end == 0 && v >= 0 && v < (1L << 30),
+            path + ":" + std::to_string(lineNumber) + ": '" + token +
+                "' is not a frame index (a non-negative integer)");
+      starts.push_back(static_cast<int>(v));
+    }
+  }
+  std::sort(starts.begin(), starts.end());
+  starts.erase(std::unique(starts.begin(), starts.end()), starts.end());
+  return starts;
 }
 
 }  // namespace tdvo

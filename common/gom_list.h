@@ -37,4 +37,10 @@ GomList parseGomList(const std::string& text, const std::string& name, size_t fr
 // parseGomList does.
 GomList readGomList(const std::string& path, size_t frameCount = 0);
 
+// GOM starts: the first frame of each GOM, as 3dvo-dec writes them (gom_starts.txt beside its
+// output) and 3dvo-render and 3dvo-metrics read them. Integers separated by white space or
+// commas, `#` comments; returned sorted, without repeats. Errors name the file and line.
+std::vector<int> readGomStarts(const std::string& path);
+constexpr const char* kGomStartsFileName = "gom_starts.txt";
+
 }  // namespace tdvo

@@ -15,6 +15,7 @@
 #include "common/config.h"
 #include "common/dataset.h"
 #include "common/file_io.h"
+#include "common/gom_list.h"
 #include "common/image.h"
 #include "common/md5.h"
 #include "common/obj_io.h"
@@ -222,6 +223,14 @@ int main(int argc, char** argv) {
       outputs.write(
           outputDir + "/" + kDatasetFileName,
           formatDataset(decodedDataset(decoder, outputDir, meshPattern, frames), outputDir));
+    if (!outputDir.empty()) {
+      // Where each GOM starts: 3dvo-metrics matches vertices there (GroupStarts), the player
+      // of 3dvo-render --Mode=export seeks to these frames.
+      std::string starts = "# first frame of each GOM (3dvo-dec)\n";
+      for (uint32_t start : decoder.gomStarts())
+        starts += std::to_string(start) + "\n";
+      outputs.write(outputDir + "/" + kGomStartsFileName, starts);
+    }
     if (!extractDir.empty()) extractTextures(streamPath, streamPath, extractDir, outputs);
     outputs.commit();
     createdFolder.keep = true;

@@ -64,6 +64,7 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
   std::optional<UnitReader> inMemory;
   if (!source_) inMemory.emplace(data_, size_, name_);
   UnitSource& units = source_ ? *source_ : *inMemory;
+  gomStarts_.clear();
   UnitView unit;
   auto expectUnit = [&](UnitType type, const std::string& when) {
     if (!units.next(unit))
@@ -193,6 +194,7 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
     if (uint64_t{gh.gh_first_frame} + gh.gh_frame_count > sh_.sh_frame_count)
       throw Error(gomWhere + ": GOM of " + std::to_string(gh.gh_frame_count) +
                   " frames runs past sh_frame_count " + std::to_string(sh_.sh_frame_count));
+    gomStarts_.push_back(gh.gh_first_frame);
 
     const PMeshMode mode = static_cast<PMeshMode>(gh.gh_pmesh_mode);
     PMeshParams pmParams;

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
@@ -64,6 +65,8 @@ class StreamDecoder {
   Grid grid() const;
   // Bytes of the TEXTURE units decoded so far (unit headers and CRCs included).
   uint64_t textureBytes() const { return textureBytes_; }
+  // The first frame of every GOM header read so far, in order: where decoding can start.
+  const std::vector<uint32_t>& gomStarts() const { return gomStarts_; }
 
  private:
   const uint8_t* data_ = nullptr;
@@ -73,6 +76,7 @@ class StreamDecoder {
   std::FILE* trace_;
   SequenceHeader sh_;
   uint64_t textureBytes_ = 0;
+  std::vector<uint32_t> gomStarts_;
   uint64_t maxVertexFramesPerByte_ = kDefaultMaxVertexFramesPerByte;
   int threads_ = 1;
 };

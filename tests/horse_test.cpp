@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/gom_list.h"
 #include "common/obj_io.h"
 #include "common/sequence.h"
 #include "tests/roundtrip_check.h"
@@ -78,7 +79,12 @@ TEST_P(HorseTest, EncoderAndDecoderAgree) {
                 {"-i", "horse.3dvo", "-o", "out", "--verify", "enc.log"});
   ASSERT_EQ(dec.exitCode, 0) << dec.err;
   EXPECT_EQ(test::linesStartingWith(dec.out, "MD5 "), encLines);
-  EXPECT_EQ(test::listFolder(dir.path() / "out").size(), static_cast<size_t>(kFrames));
+  EXPECT_EQ(test::listFolder(dir.path() / "out").size(), static_cast<size_t>(kFrames) + 1u);
+  // gom_starts.txt lists the GOMs' first frames.
+  std::vector<int> starts;
+  for (int f = 0; f < kFrames; f += params.gomSize)
+    starts.push_back(f);
+  EXPECT_EQ(readGomStarts(dir.file("out/gom_starts.txt")), starts);
   // The decoder's last OBJ is the library's last decoded frame, dequantised.
   EXPECT_EQ(test::readText(dir.file("out/0047.obj")),
             formatObj(r.decodedGrid.dequantise(r.decoderFrames[47])));

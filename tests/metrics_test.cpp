@@ -449,6 +449,42 @@ TEST(MetricsApp, GroupCorrespondenceIsMadeAtTheFirstFrameOnly) {
   EXPECT_GT(std::stod(rows[2][rmse]), 0.1);
 }
 
+TEST(MetricsApp, GroupStartsFromAFileMakeTheMatchingAtEachListedFrame) {
+  // Groups of different lengths, as 3dvo-dec's gom_starts.txt gives them: frames 0-1 and 2.
+  // Frames 0 and 2 are matched on their own (the offset only), frame 1 reuses frame 0's.
+  AppFixture fx;
+  test::writeText(fx.dir.file("out/gom_starts.txt"), "# first frame of each GOM\n0\n2\n");
+  const test::CommandResult r = test::run(
+      fx.dir, kApp,
+      {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t", "out/%04d.obj",
+       "--Correspondence=nearest", "--GroupStarts=out/gom_starts.txt", "--CsvFile=m.csv"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto rows = readCsv(fx.dir.file("m.csv"));
+  const size_t rmse = column(rows[0], "vertex_rmse");
+  EXPECT_NEAR(std::stod(rows[1][rmse]), 0.003, 1e-9);
+  EXPECT_GT(std::stod(rows[2][rmse]), 0.1);
+  EXPECT_NEAR(std::stod(rows[3][rmse]), 0.003, 1e-9);
+  EXPECT_NE(r.out.find("2 groups"), std::string::npos) << r.out;
+
+  // Both ways of giving groups, or a bad line, is an error naming the cause; no CSV is left.
+  std::filesystem::remove(fx.dir.file("m.csv"));
+  const test::CommandResult both =
+      test::run(fx.dir, kApp,
+                {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t", "out/%04d.obj",
+                 "--Correspondence=nearest", "--GroupSize=2", "--GroupStarts=out/gom_starts.txt",
+                 "--CsvFile=m.csv"});
+  EXPECT_EQ(both.exitCode, 1);
+  EXPECT_NE(both.err.find("not both"), std::string::npos) << both.err;
+  test::writeText(fx.dir.file("bad.txt"), "0\n2 x\n");
+  const test::CommandResult bad =
+      test::run(fx.dir, kApp,
+                {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t", "out/%04d.obj",
+                 "--Correspondence=nearest", "--GroupStarts=bad.txt", "--CsvFile=m.csv"});
+  EXPECT_EQ(bad.exitCode, 1);
+  EXPECT_NE(bad.err.find("bad.txt:2"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(fx.dir.file("m.csv")));
+}
+
 TEST(MetricsApp, RelativeDistancesAreDividedByTheReferenceDiagonal) {
   AppFixture fx;
   const test::CommandResult r =

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
+#include "common/gom_list.h"
 #include "common/obj_io.h"
 #include "common/rasteriser.h"
 #include "common/video_reader.h"

@@ -16,6 +16,7 @@
 #include "bitstream/units.h"
 #include "common/dataset.h"
 #include "common/error.h"
+#include "common/gom_list.h"
 #include "common/md5.h"
 #include "common/yuv.h"
 #include "decoder/stream_decoder.h"
@@ -263,7 +264,7 @@ TEST(TextureThreads, EncoderErrorsAreTheSameForAnyThreadCount) {
 }
 
 // Through the apps: 3dvo-enc and 3dvo-dec with Threads = 1 and 3 give the same stream, the same
-// MD5 lines and the same decoded files (meshes, PNG frames, dataset.json).
+// MD5 lines and the same decoded files (meshes, PNG frames, dataset.json, gom_starts.txt).
 TEST(TextureThreads, AppsGiveTheSameFilesForAnyThreadCount) {
   test::TempDir dir("texture-threads-apps");
   const std::string bin = TDVO_BIN_DIR;
@@ -292,7 +293,9 @@ TEST(TextureThreads, AppsGiveTheSameFilesForAnyThreadCount) {
     EXPECT_EQ(test::readBytes(entry.path().string()), test::readBytes(other)) << relative;
     ++files;
   }
-  EXPECT_EQ(files, 5u + 5u * 8u + 1u);  // OBJ frames, PNG frames, dataset.json
+  EXPECT_EQ(files, 5u + 5u * 8u + 2u);  // OBJ frames, PNG frames, dataset.json, gom_starts.txt
+  // GOMSize 3 over 5 frames: GOMs start at frames 0 and 3 (read as 3dvo-render reads it).
+  EXPECT_EQ(readGomStarts(dir.file("out1/gom_starts.txt")), (std::vector<int>{0, 3}));
 }
 
 }  // namespace

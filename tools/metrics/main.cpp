@@ -3,6 +3,7 @@
 // when the vertex counts match. With ReferenceDataset and TestDataset instead: texture PSNR
 // (object and frame) between an original dataset and a decoded one (texture_metrics.h).
 // Formulas and conventions: docs/metrics.md.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "common/config.h"
 #include "common/error.h"
 #include "common/file_io.h"
+#include "common/gom_list.h"
 #include "common/metrics.h"
 #include "common/obj_io.h"
 #include "common/progress.h"
@@ -27,7 +29,7 @@ namespace {
 enum class Correspondence { kIdentity, kNearest };
 
 struct Params {
-  std::string referenceMeshes, testMeshes, csvFile;
+  std::string referenceMeshes, testMeshes, csvFile, groupStarts;
   int referenceFirstFrame = 0, testFirstFrame = 0, frameCount = 0, groupSize = 1;
   Correspondence correspondence = Correspondence::kIdentity;
   bool relative = false;
@@ -58,6 +60,10 @@ struct Params {
     t.add("GroupSize", groupSize, 1, 10000000,
           "frames per group for Correspondence nearest: one matching per group, made at its "
           "first frame (set to the encoder's GOMSize; 1 = match every frame)");
+    t.add("GroupStarts", groupStarts,
+          "instead of GroupSize: file of the test frame numbers where groups start, e.g. the "
+          "gom_starts.txt 3dvo-dec writes (for GOMs of different lengths); the first compared "
+          "frame always starts one");
     t.add("Relative", relative,
           "report distances divided by the diagonal of the reference bounding box (over all "
           "compared frames) instead of in OBJ units");
@@ -121,8 +127,10 @@ int main(int argc, char** argv) {
       check(p.referenceMeshes.empty() && p.testMeshes.empty(),
             "give meshes (ReferenceMeshes, TestMeshes) or datasets (ReferenceDataset, "
             "TestDataset), not both");
-      check(p.correspondence == Correspondence::kIdentity && p.groupSize == 1 && !p.relative,
-            "Correspondence, GroupSize and Relative are for meshes, not for texture metrics");
+      check(p.correspondence == Correspondence::kIdentity && p.groupSize == 1 &&
+                p.groupStarts.empty() && !p.relative,
+            "Correspondence, GroupSize, GroupStarts and Relative are for meshes, not for texture "
+            "metrics");
       p.texture.referenceFirstFrame = p.referenceFirstFrame;
       p.texture.testFirstFrame = p.testFirstFrame;
       p.texture.frameCount = p.frameCount;
@@ -168,6 +176,17 @@ int main(int argc, char** argv) {
       }
     }
     const size_t frames = referencePaths.size();
+    // Where the groups of the nearest correspondence start (positions k in the comparison).
+    check(p.groupStarts.empty() || p.groupSize == 1, "give GroupSize or GroupStarts, not both");
+    std::vector<bool> groupStarts(frames, false);
+    if (p.groupStarts.empty()) {
+      for (size_t k = 0; k < frames; k += static_cast<size_t>(p.groupSize))
+        groupStarts[k] = true;
+    } else {
+      const std::vector<int> starts = readGomStarts(p.groupStarts);
+      for (size_t k = 0; k < frames; ++k)
+        groupStarts[k] = k == 0 || std::binary_search(starts.begin(), starts.end(), testFrames[k]);
+    }
 
     // Per frame: surface distances always; vertex errors while the vertex counts allow them.
     std::vector<FrameResult> results(frames);
@@ -189,7 +208,7 @@ int main(int argc, char** argv) {
         box.extend(reference.positions);
         r.surface = surfaceDistance(reference, test);
 
-        const bool groupStart = k % static_cast<size_t>(p.groupSize) == 0;
+        const bool groupStart = groupStarts[k];
         if (groupStart) haveCorrespondence = false;
         std::string problem;
         if (r.referenceVertices != r.testVertices) {
@@ -249,7 +268,13 @@ int main(int argc, char** argv) {
       std::printf("reference           : %s\n", p.referenceMeshes.c_str());
       std::printf("test                : %s\n", p.testMeshes.c_str());
     }
-    if (p.correspondence == Correspondence::kNearest)
+    if (p.correspondence == Correspondence::kNearest && !p.groupStarts.empty())
+      std::printf(
+          "correspondence      : nearest reference vertex, matched at the first frame "
+          "of each group, %zu groups starting at the frames of %s\n",
+          static_cast<size_t>(std::count(groupStarts.begin(), groupStarts.end(), true)),
+          p.groupStarts.c_str());
+    else if (p.correspondence == Correspondence::kNearest)
       std::printf(
           "correspondence      : nearest reference vertex, matched at the first frame "
           "of each group of %d\n",

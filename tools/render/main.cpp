@@ -17,6 +17,7 @@
 #include "common/config.h"
 #include "common/error.h"
 #include "common/file_io.h"
+#include "common/gom_list.h"
 #include "common/progress.h"
 #include "common/sequence.h"
 #include "tools/multiview/importers.h"
@@ -270,7 +271,7 @@ int main(int argc, char** argv) {
       e.options = p.render;
       std::string gomFile = p.gomStarts;
       if (gomFile.empty()) {
-        const std::string beside = d.resolve("gom_starts.txt");
+        const std::string beside = d.resolve(kGomStartsFileName);
         std::error_code ec;
         if (fs::is_regular_file(beside, ec)) gomFile = beside;
       }

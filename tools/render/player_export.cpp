@@ -17,32 +17,6 @@ namespace tdvo {
 
 namespace fs = std::filesystem;
 
-std::vector<int> readGomStarts(const std::string& path) {
-  const std::vector<uint8_t> bytes = readFileBytes(path);
-  std::istringstream in(std::string(bytes.begin(), bytes.end()));
-  std::vector<int> starts;
-  std::string line;
-  int lineNumber = 0;
-  while (std::getline(in, line)) {
-    ++lineNumber;
-    line = line.substr(0, line.find('#'));
-    std::replace(line.begin(), line.end(), ',', ' ');
-    std::istringstream fields(line);
-    std::string token;
-    while (fields >> token) {
-      char* end = nullptr;
-      const long v = std::strtol(token.c_str(), &end, 10);
-      check(end && *end == 0 && v >= 0 && v < (1L << 30),
-            path + ":" + std::to_string(lineNumber) + ": '" + token +
-                "' is not a frame index (a non-negative integer)");
-      starts.push_back(static_cast<int>(v));
-    }
-  }
-  std::sort(starts.begin(), starts.end());
-  starts.erase(std::unique(starts.begin(), starts.end()), starts.end());
-  return starts;
-}
-
 namespace {
 
 void appendU32(std::vector<uint8_t>& out, uint32_t v) {

@@ -30,10 +30,6 @@ struct PlayerExportParams {
 // Writes the player data (all files staged and renamed together at the end).
 void exportPlayerData(const Dataset& dataset, const PlayerExportParams& params);
 
-// Reads GOM start frame numbers from a text file: integers separated by white space or commas,
-// `#` comments; errors name the file and line.
-std::vector<int> readGomStarts(const std::string& path);
-
 // The largest atlas side the export writes (WebGL 2 guarantees far less; SwiftShader and common
 // GPUs give 8192).
 constexpr int kMaxAtlasSide = 8192;

@@ -232,14 +232,15 @@ def _geometry_stages(spec, workdir, timeout, config):
     decode_s = _run_stage("decode", decode_command, workdir, timeout)
 
     # Decoded frames come in Draco's vertex order: match them to the reference once per GOM
-    # (docs/metrics.md, "Vertex correspondence").
-    group_size = config.get("GOMSize", "1")
+    # (docs/metrics.md, "Vertex correspondence"), at the GOM starts the decoder lists (GOMs may
+    # differ in length, e.g. with GOMListFile).
     metrics_command = [
         binaries["3dvo-metrics"], "-r", reference["pattern"],
         "--ReferenceFirstFrame=%d" % reference["first_frame"],
         "-t", os.path.join("decoded", "%04d.obj"), "--TestFirstFrame=0",
         "--FrameCount=%d" % reference["frame_count"],
-        "--Correspondence=nearest", "--GroupSize=" + group_size,
+        "--Correspondence=nearest",
+        "--GroupStarts=" + os.path.join("decoded", "gom_starts.txt"),
         "--CsvFile=metrics.csv"]
     metrics_s = _run_stage("metrics", metrics_command, workdir, timeout)
     with open(os.path.join(workdir, "metrics.csv"), encoding="utf-8", newline="") as f:
