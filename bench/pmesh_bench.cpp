@@ -15,6 +15,11 @@
 //                                   items_per_second = frames/s; ...Md5 adds the per-frame MD5
 //                                   that 3dvo-dec prints
 //   StreamEncode/<condition>/<seq>/threads:<n>  encodeSequence with Threads = n (frames/s)
+//   PMeshBinsOnly/<condition>/<seq> the arithmetic decoding alone of PMeshDecode's payloads:
+//                                   every bin, each with the context the P-mesh decoding used
+//                                   for it (recorded once), decoded in a plain loop; no
+//                                   octree, prediction or binarisation logic. What the bins
+//                                   cost on this machine: a floor for PMeshDecode
 //
 // Conditions: d3dmc-lossless (MotionQuantStep 1, Lambda 0), d3dmc-lossy (MotionQuantStep 8,
 // automatic Lambda), afxic (AFX-IC-style reference, MotionQuantStep 1). GridBits 12.
@@ -22,12 +27,14 @@
 //   build/bin/pmesh_bench --benchmark_filter=PMeshDecode
 #include <benchmark/benchmark.h>
 
+#include <cstring>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "bench/bench_sequences.h"
+#include "bitstream/pmesh_syntax.h"
 #include "common/md5.h"
 #include "decoder/imesh_decoder.h"
 #include "decoder/pmesh_decoder.h"
@@ -172,6 +179,122 @@ void pmeshDecode(benchmark::State& state, const BenchSequence& s, const Conditio
   state.SetLabel("vertex-frames/s");
 }
 
+// The Io of codePMesh / codeTemporalDpcm as CabacReaderIo reads, recording every bin it
+// decodes: the context's offset from the payload's first context (the first context of
+// PMeshContexts or TemporalDpcmContexts, which the first element of either payload uses),
+// kBypass for a bypass bin, and the bin's value in bit 7. signedUeg is the UEGk binarisation of
+// common/cabac.h bin by bin; the recorded decoding is checked against decodePMesh's output.
+class RecordingReaderIo {
+ public:
+  static constexpr bool kReading = true;
+  static constexpr uint8_t kBypass = 127;
+  RecordingReaderIo(const std::vector<uint8_t>& payload, std::vector<uint8_t>& ops)
+      : decoder_(payload.data(), payload.size()), ops_(ops) {}
+
+  void bin(const char*, ContextModel& ctx, unsigned& value) { value = regular(ctx); }
+  void signedUeg(const char*, ContextModel* ctxs, int numCtx, int k, uint32_t uCoff, int32_t& value,
+                 int32_t) {
+    uint32_t magnitude = 0;
+    while (magnitude < uCoff && regular(ctxs[std::min<uint32_t>(magnitude, numCtx - 1)]))
+      ++magnitude;
+    if (magnitude == uCoff) {
+      while (bypass()) {
+        magnitude += 1u << k;
+        ++k;
+      }
+      uint32_t suffix = 0;
+      for (int i = 0; i < k; ++i)
+        suffix = suffix << 1 | bypass();
+      magnitude += suffix;
+    }
+    value = magnitude != 0 && bypass() ? -int32_t(magnitude) : int32_t(magnitude);
+  }
+  void require(bool condition, const char* what) const {
+    if (!condition) throw Error(std::string("bench recording: ") + what);
+  }
+  void require(bool condition, const std::string& what) const { require(condition, what.c_str()); }
+
+ private:
+  unsigned regular(ContextModel& ctx) {
+    if (!base_) base_ = &ctx;
+    const ptrdiff_t offset = &ctx - base_;
+    require(offset >= 0 && offset < kBypass, "a context before the first or too far from it");
+    const unsigned b = decoder_.decodeBin(ctx);
+    ops_.push_back(uint8_t(offset | b << 7));
+    return b;
+  }
+  unsigned bypass() {
+    const unsigned b = decoder_.decodeBypass();
+    ops_.push_back(uint8_t(kBypass | b << 7));
+    return b;
+  }
+
+  CabacDecoder decoder_;
+  std::vector<uint8_t>& ops_;
+  const ContextModel* base_ = nullptr;
+};
+
+// Every bin of the P meshes of a sequence under a condition, recorded once on first use.
+const std::vector<std::vector<uint8_t>>& binsOf(const BenchSequence& s, const Condition& c) {
+  static std::map<std::string, std::vector<std::vector<uint8_t>>> cache;
+  std::vector<std::vector<uint8_t>>& ops = cache[s.name + "/" + c.name];
+  if (!ops.empty()) return ops;
+  const Gom& g = gomOf(s);
+  const Coded& coded = codedOf(s, c);
+  const PMeshParams params = pmeshParams(c);
+  ops.resize(coded.payloads.size());
+  std::vector<Vec3i> previous = g.targets[0];
+  for (size_t f = 1; f < coded.payloads.size(); ++f) {
+    RecordingReaderIo io(coded.payloads[f], ops[f]);
+    NoDecisions none;
+    std::vector<Vec3i> recorded;
+    if (c.mode == PMeshMode::kD3dmc) {
+      PMeshWorkspace work;
+      codePMesh(io, none, g.topology, previous, params, work, recorded);
+    } else {
+      codeTemporalDpcm(io, none, previous, params, recorded);
+    }
+    const std::vector<Vec3i> decoded =
+        c.mode == PMeshMode::kD3dmc
+            ? decodePMesh(coded.payloads[f], g.topology, previous, params, "bench")
+            : decodeTemporalDpcm(coded.payloads[f], previous, params, "bench");
+    if (recorded != decoded) throw Error("bench: the recording decoder disagrees with the decoder");
+    previous = decoded;
+  }
+  return ops;
+}
+
+void pmeshBinsOnly(benchmark::State& state, const BenchSequence& s, const Condition& c) {
+  const Gom& g = gomOf(s);
+  const Coded& coded = codedOf(s, c);
+  const std::vector<std::vector<uint8_t>>& ops = binsOf(s, c);
+  uint64_t bins = 0;
+  for (const auto& o : ops)
+    bins += o.size();
+  unsigned mismatch = 0;
+  for (auto _ : state) {
+    for (size_t f = 1; f < coded.payloads.size(); ++f) {
+      ContextModel contexts[RecordingReaderIo::kBypass] = {};  // every context starts at state 0
+      CabacDecoder decoder(coded.payloads[f].data(), coded.payloads[f].size());
+      CabacDecoder::LocalEngine engine(decoder);
+      for (const uint8_t op : ops[f]) {
+        const unsigned slot = op & 127u;
+        const unsigned bin = slot == RecordingReaderIo::kBypass ? engine.decodeBypass()
+                                                                : engine.decodeBin(contexts[slot]);
+        mismatch |= bin ^ (op >> 7);
+      }
+    }
+    benchmark::DoNotOptimize(mismatch);
+  }
+  if (mismatch != 0) state.SkipWithError("the replayed bins differ from the recorded ones");
+  const int64_t vertexFrames = int64_t(g.vertices()) * int64_t(coded.payloads.size() - 1);
+  state.SetItemsProcessed(int64_t(state.iterations()) * vertexFrames);
+  state.counters["bins/vertex"] = double(bins) / double(vertexFrames);
+  state.counters["bins/s"] =
+      benchmark::Counter(double(bins) * double(state.iterations()), benchmark::Counter::kIsRate);
+  state.SetLabel("vertex-frames/s");
+}
+
 void pmeshEncode(benchmark::State& state, const BenchSequence& s, const Condition& c) {
   const Gom& g = gomOf(s);
   const Coded& coded = codedOf(s, c);
@@ -277,6 +400,10 @@ int main(int argc, char** argv) {
     for (const Condition& c : kConditions)
       benchmark::RegisterBenchmark(("PMeshDecode/" + std::string(c.name) + seq).c_str(),
                                    pmeshDecode, s, c)
+          ->Unit(benchmark::kMillisecond);
+    for (const Condition& c : kConditions)
+      benchmark::RegisterBenchmark(("PMeshBinsOnly/" + std::string(c.name) + seq).c_str(),
+                                   pmeshBinsOnly, s, c)
           ->Unit(benchmark::kMillisecond);
     for (const Condition& c : kConditions)
       benchmark::RegisterBenchmark(("PMeshEncode/" + std::string(c.name) + seq).c_str(),
