@@ -16,7 +16,8 @@
 #          needs Debian's python3-numpy, python3-scipy and python3-skimage ($PYTHON, default
 #          /usr/bin/python3)
 # 3dvo-dec is timed with GNU time, Threads = 1 and 2: decoding with the MD5 lines only (to
-# memory: no output files), then with -o (every frame as OBJ, every camera frame as PNG).
+# memory: no output files), then with -o (every frame as OBJ, every camera frame as PNG), with
+# the default PngCompression fast and with small.
 # "x RT" is frames/s over the frame rate (25). The CPU time (user + sys) of the Threads = 1 runs
 # is the single-core figure and hardly depends on what else the machine runs; the wall time
 # does (and is what Threads = 2 improves).
@@ -78,16 +79,18 @@ echo
 printf '| %-22s | %7s | %7s | %7s | %12s | %10s | %13s | %11s |\n' "3dvo-dec" threads \
   "CPU s" "wall s" "frames/CPU s" "x RT (CPU)" "frames/wall s" "x RT (wall)"
 echo "|---|--:|--:|--:|--:|--:|--:|--:|"
-for output in hashes png; do
+for output in hashes png png-small; do
   for threads in 1 2; do
     args=(-i "$work/uu.3dvo" --Threads="$threads" --verify "$work/enc.log")
-    [ "$output" = png ] && args+=(-o "$work/out")
+    [ "$output" != hashes ] && args+=(-o "$work/out")
+    [ "$output" = png-small ] && args+=(--PngCompression=small)
     rm -rf "$work/out"
     /usr/bin/time -f '%U %S %e' -o "$work/time" "$bin/3dvo-dec" "${args[@]}" > /dev/null
     read -r user sys wall < "$work/time"
     awk -v o="$output" -v t="$threads" -v u="$user" -v s="$sys" -v w="$wall" -v n="$frames" \
       'BEGIN {
-         what = o == "png" ? "MD5 lines + OBJ + PNG" : "MD5 lines (to memory)"
+         what = o == "png" ? "MD5 lines + OBJ + PNG" : \
+                o == "png-small" ? "... PNG small" : "MD5 lines (to memory)"
          printf "| %-22s | %7d | %7.2f | %7.2f | %12.1f | %10.2f | %13.1f | %11.2f |\n", what, t,
                 u + s, w, n / (u + s), n / (u + s) / 25, n / w, n / w / 25
        }'

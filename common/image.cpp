@@ -153,14 +153,20 @@ void writeToVector(png_structp png, png_bytep data, png_size_t length) {
 
 void flushNothing(png_structp) {}
 
-bool encodeRows(png_structp png, png_infop info, const Image& image, png_bytep* rows) {
+bool encodeRows(png_structp png, png_infop info, const Image& image, png_bytep* rows,
+                PngEffort effort) {
   if (setjmp(png_jmpbuf(png))) return false;
   static const int kColourType[5] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA,
                                      PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGB_ALPHA};
   png_set_IHDR(png, info, static_cast<png_uint_32>(image.width),
                static_cast<png_uint_32>(image.height), 8, kColourType[image.channels],
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_set_compression_level(png, 6);
+  if (effort == PngEffort::kFast) {
+    png_set_compression_level(png, 1);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
+  } else {
+    png_set_compression_level(png, 6);
+  }
   png_write_info(png, info);
   png_write_image(png, rows);
   png_write_end(png, info);
@@ -175,7 +181,7 @@ struct WriteStructs {
 
 }  // namespace
 
-std::vector<uint8_t> encodePng(const Image& image) {
+std::vector<uint8_t> encodePng(const Image& image, PngEffort effort) {
   check(image.width > 0 && image.height > 0 && image.channels >= 1 && image.channels <= 4 &&
             image.pixels.size() == image.index(0, image.height),
         "encodePng: invalid image " + std::to_string(image.width) + "x" +
@@ -192,7 +198,7 @@ std::vector<uint8_t> encodePng(const Image& image) {
   std::vector<png_bytep> rows(static_cast<size_t>(image.height));
   for (int y = 0; y < image.height; ++y)
     rows[static_cast<size_t>(y)] = const_cast<png_bytep>(&image.pixels[image.index(0, y)]);
-  if (!encodeRows(s.png, s.info, image, rows.data()))
+  if (!encodeRows(s.png, s.info, image, rows.data(), effort))
     throw Error(std::string("encodePng: ") + errorState.message);
   return out;
 }

@@ -44,9 +44,15 @@ Image decodePng(const std::vector<uint8_t>& bytes, const std::string& name);
 // Reads only the header: the image size, without decoding the pixels.
 void readPngSize(const std::string& path, int& width, int& height);
 
-// Encodes an image as PNG (8-bit, colour type from `channels`, zlib level 6, no time or text
-// chunks): the same image always gives the same bytes with the same libpng/zlib.
-std::vector<uint8_t> encodePng(const Image& image);
+// How hard encodePng compresses; the pixels are the same either way.
+//   kSmall  zlib level 6 and libpng's adaptive row filters (all five tried per row)
+//   kFast   zlib level 1 and the Up filter on every row: on decoded camera frames about 3.7x
+//           faster than kSmall, the files about 30 % larger (docs/performance.md, "Textures")
+enum class PngEffort { kSmall, kFast };
+
+// Encodes an image as PNG (8-bit, colour type from `channels`, no time or text chunks): the
+// same image always gives the same bytes with the same libpng/zlib and effort.
+std::vector<uint8_t> encodePng(const Image& image, PngEffort effort = PngEffort::kSmall);
 // Writes a PNG file atomically (temporary name, then rename).
 void writePng(const std::string& path, const Image& image);
 

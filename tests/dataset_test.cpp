@@ -218,6 +218,10 @@ TEST(Image, PngRoundTripAllChannelCounts) {
     writePng(path, image);
     EXPECT_EQ(readPng(path), image);
     EXPECT_EQ(encodePng(image), encodePng(image));
+    // The fast setting: other bytes, the same pixels.
+    const std::vector<uint8_t> fast = encodePng(image, PngEffort::kFast);
+    EXPECT_NE(fast, encodePng(image));
+    EXPECT_EQ(decodePng(fast, "fast.png"), image);
     int w = 0, h = 0;
     readPngSize(path, w, h);
     EXPECT_EQ(w, 13);

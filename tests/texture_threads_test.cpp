@@ -17,6 +17,7 @@
 #include "common/dataset.h"
 #include "common/error.h"
 #include "common/gom_list.h"
+#include "common/image.h"
 #include "common/md5.h"
 #include "common/yuv.h"
 #include "decoder/stream_decoder.h"
@@ -296,6 +297,18 @@ TEST(TextureThreads, AppsGiveTheSameFilesForAnyThreadCount) {
   EXPECT_EQ(files, 5u + 5u * 8u + 2u);  // OBJ frames, PNG frames, dataset.json, gom_starts.txt
   // GOMSize 3 over 5 frames: GOMs start at frames 0 and 3 (read as 3dvo-render reads it).
   EXPECT_EQ(readGomStarts(dir.file("out1/gom_starts.txt")), (std::vector<int>{0, 3}));
+
+  // PngCompression=small (the default is fast): other PNG bytes, the same pixels.
+  const auto small =
+      test::run(dir, bin + "/3dvo-dec", {"-i", "t1.3dvo", "-o", "small", "--PngCompression=small"});
+  ASSERT_EQ(small.exitCode, 0) << small.err;
+  for (int camera = 0; camera < 8; ++camera) {
+    const std::string frame = "/cam" + std::to_string(camera) + "/0004.png";
+    const std::vector<uint8_t> fast = test::readBytes(dir.file("out1" + frame));
+    const std::vector<uint8_t> smaller = test::readBytes(dir.file("small" + frame));
+    EXPECT_NE(fast, smaller) << frame;
+    EXPECT_EQ(decodePng(fast, frame), decodePng(smaller, frame)) << frame;
+  }
 }
 
 }  // namespace
