@@ -42,6 +42,10 @@ not exist yet, and each job measures object PSNR (job.py):
     frame_count = 25
     pattern = "meshes/%04d.obj"              # optional: InputMeshPattern (default: the dataset's)
 
+Encoder keys naming an input file (GOMListFile) are paths from the root, or "{dataset}/..." in
+the sequence's dataset folder (e.g. the goms.txt of a 3dvo-recon dataset made by `prepare`);
+the job gets the absolute path, and the cache key the file's content hash.
+
 The encoder configuration of a job is the merge, later wins, of: [sweep].cfg, the sequence's cfg
 and set, the mode's cfg and set, the setting, and last the sequence's input keys
 (InputMeshPattern, FirstFrame, FrameCount, FrameRate). cfg files are read here with 3dvo-enc's
@@ -59,6 +63,10 @@ import tomllib
 _RESERVED_KEYS = ("BitstreamFile", "ReconMeshPattern")
 _INPUT_KEYS = ("InputMeshPattern", "Dataset", "FirstFrame", "FrameCount", "FrameRate")
 KEY_FORMAT = "3dvo-rd key 1"
+# Encoder keys whose value names an input file: the path is taken from the sweep's root (or
+# "{dataset}/..." from the sequence's dataset folder) and the cache key hashes the file's
+# content instead of its name.
+_FILE_KEYS = ("GOMListFile",)
 BINARIES = ("3dvo-enc", "3dvo-dec", "3dvo-metrics")
 KINDS = ("geometry", "texture")
 # Placeholders of prepare commands (see prepare_datasets).
@@ -311,6 +319,17 @@ class Sweep:
                 sequence.dataset = os.path.normpath(os.path.join(os.path.abspath(results_dir),
                                                                  rest))
 
+    def _input_file(self, value, sequence, key):
+        """The absolute path of an input file named by an encoder key (see _FILE_KEYS)."""
+        field = "{dataset}"
+        if value.startswith(field):
+            if not sequence.dataset:
+                raise SweepError("%s: sequence '%s': %s = %s, but the sequence has no dataset"
+                                 % (self.path, sequence.name, key, value))
+            return os.path.normpath(os.path.join(sequence.dataset,
+                                                 value[len(field):].lstrip("/")))
+        return self.resolve(value)
+
     def _paths(self, table, key):
         paths = table.get(key, list, [])
         for p in paths:
@@ -367,6 +386,9 @@ class Sweep:
                     for key, value in pairs:
                         if key not in _RESERVED_KEYS:
                             config[key] = value
+                    for key in _FILE_KEYS:
+                        if config.get(key):
+                            config[key] = self._input_file(config[key], sequence, key)
                     jobs.append(Job(sequence, mode, point, setting, config))
         return jobs
 
@@ -411,9 +433,17 @@ class Identity:
 
     def key(self, job):
         """The cache key: sha256 of the binaries' contents, the merged encoder configuration (less
-        the input path, which the input frames' content hashes replace) and the metrics options.
+        the input path, which the input frames' content hashes replace; an input file key such as
+        GOMListFile by its file's content hash) and the metrics options.
         Moving the data or the binaries keeps the key; changing a byte of either changes it."""
         config = {k: v for k, v in job.config.items() if k not in ("InputMeshPattern", "Dataset")}
+        for key in _FILE_KEYS:
+            if config.get(key):
+                try:
+                    config[key] = "sha256:" + sha256_file(config[key])
+                except OSError as e:
+                    raise SweepError("sequence '%s': cannot read %s %s (%s)"
+                                     % (job.sequence.name, key, config[key], e.strerror)) from None
         material = {
             "format": KEY_FORMAT,
             "binaries": self.binary_hashes,

@@ -167,6 +167,37 @@ class SweepTest(TempDirTestCase):
         changed = [Identity(self.bin).key(j) for j in Sweep(self.path).jobs()]
         self.assertTrue(all(a != b for a, b in zip(keys, changed)))
 
+    def test_an_input_file_key_is_resolved_and_keyed_by_content(self):
+        mode = """
+            [[mode]]
+            name = "listed"
+            set = { GOMListFile = "lists/goms.txt" }
+            settings = [ {} ]
+            sequences = ["a"]
+            """
+        self.write("sweeps/s.toml", self.sweep_text(mode))
+        def listed():
+            return next(j for j in Sweep(self.path).jobs() if j.mode.name == "listed")
+
+        with self.assertRaisesRegex(SweepError, "sequence 'a': cannot read GOMListFile .*goms.txt"):
+            Identity(self.bin).key(listed())
+        self.write("lists/goms.txt", "0 2\n2 1\n")
+        job = listed()
+        self.assertEqual(job.config["GOMListFile"], os.path.join(self.tmp, "lists", "goms.txt"))
+        key = Identity(self.bin).key(job)
+
+        # Moving the list keeps the key; changing its content changes it.
+        os.rename(os.path.join(self.tmp, "lists"), os.path.join(self.tmp, "moved-lists"))
+        self.write("sweeps/s.toml", self.sweep_text(mode.replace("lists/", "moved-lists/")))
+        self.assertEqual(Identity(self.bin).key(listed()), key)
+        self.write("moved-lists/goms.txt", "0 1\n1 2\n")
+        self.assertNotEqual(Identity(self.bin).key(listed()), key)
+
+        # {dataset}/... needs a sequence with a dataset.
+        self.write("sweeps/s.toml", self.sweep_text(mode.replace("lists/", "{dataset}/")))
+        with self.assertRaisesRegex(SweepError, "sequence 'a': GOMListFile = .* has no dataset"):
+            Sweep(self.path).jobs()
+
     def test_missing_binary_is_an_error(self):
         os.unlink(os.path.join(self.bin, "3dvo-dec"))
         with self.assertRaisesRegex(SweepError, "3dvo-dec: no such executable"):
