@@ -27,30 +27,25 @@ int main(int argc, char** argv) {
     const auto start = std::chrono::steady_clock::now();
     std::printf("# 3dvo-enc effective configuration\n%s\n", table.effectiveConfig().c_str());
 
-    // Input. OBJ frames named by a pattern are read frame by frame, never all at once: a first
-    // pass takes the sequence's bounding box (the grid needs it), with a dataset a second one
-    // its texture boxes, then the encoder reads each GOM's frames when it codes that GOM, so
-    // memory is bounded by a few GOMs, not by the sequence. A dataset's own meshes are read up
-    // front (room for improvement: read them through the same passes).
-    std::vector<Mesh> frames;  // a dataset's meshes, when InputMeshPattern is not set
-    std::vector<std::string> names;
+    // Input. OBJ frames, named by InputMeshPattern or by the dataset's meshes, are read frame
+    // by frame, never all at once: with a dataset a first pass takes the texture boxes, a pass
+    // the sequence's bounding box (the grid needs it), then the encoder reads each GOM's frames
+    // when it codes that GOM, so memory is bounded by a few GOMs, not by the sequence.
     FrameSource source;
     Dataset dataset;
     if (!params.dataset.empty()) dataset = readDataset(params.dataset);
+    source.count = static_cast<size_t>(params.frameCount);
     if (!params.inputMeshPattern.empty()) {
-      source.count = static_cast<size_t>(params.frameCount);
       source.name = [&params](size_t k) {
         return framePath(params.inputMeshPattern, params.firstFrame + static_cast<int>(k));
       };
-      source.read = [&source](size_t k) { return readObj(source.name(k)); };
     } else {
-      frames = readDatasetFrames(dataset, params.firstFrame, params.frameCount);
-      for (int k = 0; k < params.frameCount; ++k)
-        names.push_back(dataset.framePath(dataset.meshes, params.firstFrame + k));
-      source.count = frames.size();
-      source.name = [&names](size_t k) { return names[k]; };
-      source.read = [&frames](size_t k) { return frames[k]; };
+      checkDatasetMeshes(dataset, params.firstFrame, params.frameCount);
+      source.name = [&params, &dataset](size_t k) {
+        return dataset.framePath(dataset.meshes, params.firstFrame + static_cast<int>(k));
+      };
     }
+    source.read = [&source](size_t k) { return readObj(source.name(k)); };
     std::unique_ptr<TextureEncoder> textures;
     if (!params.dataset.empty())
       textures = std::make_unique<TextureEncoder>(params, dataset, source.count, source.read);

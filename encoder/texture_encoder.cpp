@@ -11,13 +11,17 @@
 
 namespace tdvo {
 
-std::vector<Mesh> readDatasetFrames(const Dataset& dataset, int firstFrame, int frameCount) {
+void checkDatasetMeshes(const Dataset& dataset, int firstFrame, int frameCount) {
   check(!dataset.meshes.empty(),
         dataset.resolve(kDatasetFileName) + ": the dataset has no meshes; set InputMeshPattern");
   check(firstFrame + frameCount <= dataset.frameCount,
         dataset.resolve(kDatasetFileName) +
             ": FirstFrame + FrameCount = " + std::to_string(firstFrame + frameCount) +
             " but the dataset has " + std::to_string(dataset.frameCount) + " frames");
+}
+
+std::vector<Mesh> readDatasetFrames(const Dataset& dataset, int firstFrame, int frameCount) {
+  checkDatasetMeshes(dataset, firstFrame, frameCount);
   std::vector<Mesh> frames;
   for (int k = 0; k < frameCount; ++k)
     frames.push_back(readDatasetMesh(dataset, firstFrame + k));

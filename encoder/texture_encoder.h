@@ -60,7 +60,11 @@ class TextureEncoder {
   std::vector<std::unique_ptr<H264Decoder>> decoders_;
 };
 
-// Reads the geometry from a dataset's meshes: frames params.firstFrame .. + frameCount - 1.
+// Checks that a dataset has meshes for frames firstFrame .. firstFrame + frameCount - 1
+// (an Error names its dataset.json otherwise).
+void checkDatasetMeshes(const Dataset& dataset, int firstFrame, int frameCount);
+// Reads the geometry from a dataset's meshes: frames firstFrame .. + frameCount - 1, checked
+// as above.
 std::vector<Mesh> readDatasetFrames(const Dataset& dataset, int firstFrame, int frameCount);
 
 }  // namespace tdvo
