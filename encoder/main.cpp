@@ -2,7 +2,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
+#include <optional>
 
 #include "common/app.h"
 #include "common/dataset.h"
@@ -28,9 +30,9 @@ int main(int argc, char** argv) {
     std::printf("# 3dvo-enc effective configuration\n%s\n", table.effectiveConfig().c_str());
 
     // Input. OBJ frames, named by InputMeshPattern or by the dataset's meshes, are read frame
-    // by frame, never all at once: with a dataset a first pass takes the texture boxes, a pass
-    // the sequence's bounding box (the grid needs it), then the encoder reads each GOM's frames
-    // when it codes that GOM, so memory is bounded by a few GOMs, not by the sequence.
+    // by frame, never all at once: a first pass takes the sequence's bounding box (the grid
+    // needs it) and, with a dataset, the texture boxes, then the encoder reads each GOM's
+    // frames when it codes that GOM, so memory is bounded by a few GOMs, not by the sequence.
     FrameSource source;
     Dataset dataset;
     if (!params.dataset.empty()) dataset = readDataset(params.dataset);
@@ -46,16 +48,19 @@ int main(int argc, char** argv) {
       };
     }
     source.read = [&source](size_t k) { return readObj(source.name(k)); };
-    std::unique_ptr<TextureEncoder> textures;
-    if (!params.dataset.empty())
-      textures = std::make_unique<TextureEncoder>(params, dataset, source.count, source.read);
+    std::optional<TextureBoxFinder> boxes;
+    if (!params.dataset.empty()) boxes.emplace(params, dataset, source.count);
 
     Grid grid;
     {
       Progress progress("reading frames", source.count);
-      grid = gridForSequence(source, params.gridBits, params.threadCount(),
-                             [&](size_t k) { progress.tick(k + 1); });
+      grid = gridForSequence(
+          source, params.gridBits, params.threadCount(), [&](size_t k) { progress.tick(k + 1); },
+          boxes ? [&](size_t, const Mesh& mesh) { boxes->add(mesh); }
+                : std::function<void(size_t, const Mesh&)>());
     }
+    std::unique_ptr<TextureEncoder> textures;
+    if (boxes) textures = std::make_unique<TextureEncoder>(params, dataset, boxes->boxes());
     StagedFiles outputs;
     EncodedSequence coded;
     {

@@ -87,13 +87,18 @@ Grid gridForSequence(const std::vector<Mesh>& frames, int bits) {
 }
 
 Grid gridForSequence(const FrameSource& source, int bits, int threads,
-                     const std::function<void(size_t frame)>& onFrameRead) {
+                     const std::function<void(size_t frame)>& onFrameRead,
+                     const std::function<void(size_t frame, const Mesh& mesh)>& inspect) {
   // boundingBox()'s fold, frame after frame in order, so the result is the same bit for bit.
   Vec3d lo{0, 0, 0}, hi{0, 0, 0};
   bool any = false;
   orderedParallelFor<Mesh>(
       source.count, threads, 2 * static_cast<size_t>(threads),
-      [&](size_t k) { return source.read(k); },
+      [&](size_t k) {
+        Mesh mesh = source.read(k);
+        if (inspect) inspect(k, mesh);
+        return mesh;
+      },
       [&](size_t k, Mesh& mesh) {
         for (const Vec3d& p : mesh.positions) {
           for (int a = 0; a < 3; ++a) {

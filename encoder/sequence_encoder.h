@@ -42,9 +42,13 @@ struct FrameSource {
 Grid gridForSequence(const std::vector<Mesh>& frames, int bits);
 // The same grid from frames read one by one (`threads` at a time) and released as soon as
 // their bounds are taken; `onFrameRead(k)` (optional) is called in frame order on the calling
-// thread. Errors of read() come out in frame order, as if read sequentially.
+// thread. `inspect(k, mesh)` (optional) sees every frame on the thread that read it, several
+// at once and in no particular order, before it is released (e.g. TextureBoxFinder::add, so
+// that one pass over the input serves both). Errors of read() and inspect() come out in
+// frame order, as if run sequentially.
 Grid gridForSequence(const FrameSource& source, int bits, int threads = 1,
-                     const std::function<void(size_t frame)>& onFrameRead = {});
+                     const std::function<void(size_t frame)>& onFrameRead = {},
+                     const std::function<void(size_t frame, const Mesh& mesh)>& inspect = {});
 
 // Encodes `frames` on `grid` (normally gridForSequence(frames, params.gridBits); already read;
 // frame k of the stream is frames[k]; `frameNames`, if not empty, names each frame's source in

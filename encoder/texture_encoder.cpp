@@ -32,8 +32,8 @@ TextureEncoder::TextureEncoder(const EncoderParams& params, const Dataset& datas
                                const std::vector<Mesh>& frames)
     : TextureEncoder(params, dataset, frames.size(), [&frames](size_t k) { return frames[k]; }) {}
 
-TextureEncoder::TextureEncoder(const EncoderParams& params, const Dataset& dataset,
-                               size_t frameCount, const std::function<Mesh(size_t k)>& readFrame)
+TextureBoxFinder::TextureBoxFinder(const EncoderParams& params, const Dataset& dataset,
+                                   size_t frameCount)
     : params_(params), dataset_(dataset) {
   const std::string name = dataset.resolve(kDatasetFileName);
   check(!dataset.cameras.empty(), name + ": no cameras");
@@ -45,34 +45,70 @@ TextureEncoder::TextureEncoder(const EncoderParams& params, const Dataset& datas
   for (const DatasetCamera& c : dataset.cameras)
     check(c.camera.width <= kMaxImageSize && c.camera.height <= kMaxImageSize,
           name + ": camera " + c.camera.name + " is larger than 16384 pixels");
-  // The boxes: every frame read once (frames in parallel, Threads), its shape taken in every
-  // camera; the union over the frames does not depend on the order.
-  const size_t cameraCount = dataset.cameras.size();
-  std::vector<TextureBox> boxes(cameraCount);
-  if (params.textureMode == TextureBoxMode::kFull) {
-    for (size_t c = 0; c < cameraCount; ++c)
-      boxes[c] = fullFrameBox(dataset.cameras[c].camera.width, dataset.cameras[c].camera.height);
-  } else {
-    std::vector<MaskRenderer> renderers;
+  boxes_.resize(dataset.cameras.size());
+  if (params.textureMode == TextureBoxMode::kBox)
     for (const DatasetCamera& c : dataset.cameras)
-      renderers.emplace_back(c.camera);
+      renderers_.emplace_back(c.camera);
+}
+
+TextureBoxFinder::~TextureBoxFinder() = default;
+
+void TextureBoxFinder::add(const Mesh& mesh) {
+  if (params_.textureMode != TextureBoxMode::kBox) return;
+  // The shapes outside the lock (MaskRenderer::render may run on several threads at once).
+  std::vector<TextureBox> frameBoxes(renderers_.size());
+  for (size_t c = 0; c < renderers_.size(); ++c)
+    frameBoxes[c] = macroblockBox(renderers_[c].render(mesh), params_.textureBoxMargin);
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (size_t c = 0; c < renderers_.size(); ++c)
+    boxes_[c] = unite(boxes_[c], frameBoxes[c]);
+}
+
+std::vector<TextureBox> TextureBoxFinder::boxes() const {
+  std::vector<TextureBox> boxes;
+  if (params_.textureMode == TextureBoxMode::kFull) {
+    for (const DatasetCamera& c : dataset_.cameras)
+      boxes.push_back(fullFrameBox(c.camera.width, c.camera.height));
+    return boxes;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  boxes = boxes_;
+  for (TextureBox& box : boxes)
+    if (box.empty()) box = {0, 0, kMacroblockSize, kMacroblockSize};  // never sees the object
+  return boxes;
+}
+
+namespace {
+
+// The boxes from meshes read by readFrame(k), params.threadCount() frames at a time.
+std::vector<TextureBox> findBoxes(const EncoderParams& params, const Dataset& dataset,
+                                  size_t frameCount,
+                                  const std::function<Mesh(size_t k)>& readFrame) {
+  TextureBoxFinder finder(params, dataset, frameCount);
+  if (params.textureMode == TextureBoxMode::kBox) {
     const int threads = params.threadCount();
-    orderedParallelFor<std::vector<TextureBox>>(
+    orderedParallelFor<int>(
         frameCount, threads, 2 * static_cast<size_t>(threads),
         [&](size_t k) {
-          const Mesh mesh = readFrame(k);
-          std::vector<TextureBox> frameBoxes(cameraCount);
-          for (size_t c = 0; c < cameraCount; ++c)
-            frameBoxes[c] = macroblockBox(renderers[c].render(mesh), params.textureBoxMargin);
-          return frameBoxes;
+          finder.add(readFrame(k));
+          return 0;
         },
-        [&](size_t, std::vector<TextureBox>& frameBoxes) {
-          for (size_t c = 0; c < cameraCount; ++c)
-            boxes[c] = unite(boxes[c], frameBoxes[c]);
-        });
-    for (TextureBox& box : boxes)
-      if (box.empty()) box = {0, 0, kMacroblockSize, kMacroblockSize};  // never sees the object
+        [](size_t, int&) {});
   }
+  return finder.boxes();
+}
+
+}  // namespace
+
+TextureEncoder::TextureEncoder(const EncoderParams& params, const Dataset& dataset,
+                               size_t frameCount, const std::function<Mesh(size_t k)>& readFrame)
+    : TextureEncoder(params, dataset, findBoxes(params, dataset, frameCount, readFrame)) {}
+
+TextureEncoder::TextureEncoder(const EncoderParams& params, const Dataset& dataset,
+                               const std::vector<TextureBox>& boxes)
+    : params_(params), dataset_(dataset) {
+  check(boxes.size() == dataset.cameras.size() && !boxes.empty(),
+        "TextureEncoder: one texture box per camera expected");
   for (size_t c = 0; c < dataset.cameras.size(); ++c) {
     const Camera& camera = dataset.cameras[c].camera;
     const TextureBox& box = boxes[c];

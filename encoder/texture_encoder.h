@@ -11,6 +11,7 @@
 
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "bitstream/syntax.h"
@@ -27,10 +28,36 @@ namespace tdvo {
 class H264Encoder;
 class H264Decoder;
 
+// The cameras' texture boxes for a sequence. Made for a dataset and a frame count (it checks
+// that the dataset can be coded: cameras, their number and sizes, enough frames; an Error
+// names the dataset otherwise), it is shown every input mesh (frame k = dataset frame
+// params.firstFrame + k) with add(), from any thread and in any order, e.g. during the pass
+// that takes the bounding box (gridForSequence's `inspect`); boxes() is then each camera's box:
+// in bbox mode the union of the meshes' macroblock boxes, in full mode the whole frame (add()
+// does nothing). The boxes do not depend on the order of the add() calls.
+class TextureBoxFinder {
+ public:
+  TextureBoxFinder(const EncoderParams& params, const Dataset& dataset, size_t frameCount);
+  ~TextureBoxFinder();
+  void add(const Mesh& mesh);
+  std::vector<TextureBox> boxes() const;
+
+ private:
+  const EncoderParams& params_;
+  const Dataset& dataset_;
+  std::vector<MaskRenderer> renderers_;
+  mutable std::mutex mutex_;
+  std::vector<TextureBox> boxes_;  // the union so far (bbox mode)
+};
+
 class TextureEncoder {
  public:
-  // The input meshes (frame k = dataset frame params.firstFrame + k, k < frameCount) only
-  // choose the boxes: readFrame(k) is called once per frame, params.threadCount() frames at a
+  // `boxes` (TextureBoxFinder::boxes()) are the cameras' texture boxes, one per camera of
+  // `dataset`.
+  TextureEncoder(const EncoderParams& params, const Dataset& dataset,
+                 const std::vector<TextureBox>& boxes);
+  // With the boxes found from the input meshes (frame k = dataset frame params.firstFrame + k,
+  // k < frameCount): readFrame(k) is called once per frame, params.threadCount() frames at a
   // time (it must be thread-safe), and the boxes do not depend on the thread count.
   TextureEncoder(const EncoderParams& params, const Dataset& dataset, size_t frameCount,
                  const std::function<Mesh(size_t k)>& readFrame);

@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "bitstream/camera_parameters.h"
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
 #include "common/dataset.h"
@@ -120,6 +121,52 @@ Calls decode(const std::vector<uint8_t>& stream, int threads, std::string* error
 const Encoded& sequentialEncoding() {
   static const Encoded e = encode(1);
   return e;
+}
+
+// The texture boxes do not depend on the order in which the frames are shown, nor on how
+// many threads show them at once; they are the union of the frames' boxes, and they are what
+// the encoder codes with.
+TEST(TextureThreads, TextureBoxesDoNotDependOnTheOrderOfTheFrames) {
+  const Rig& r = rig();
+  EncoderParams params;
+  params.frameCount = static_cast<int>(r.frames.size());
+  TextureBoxFinder inOrder(params, r.dataset, r.frames.size());
+  for (const Mesh& mesh : r.frames)
+    inOrder.add(mesh);
+  const std::vector<TextureBox> boxes = inOrder.boxes();
+  ASSERT_EQ(boxes.size(), r.dataset.cameras.size());
+
+  TextureBoxFinder reversed(params, r.dataset, r.frames.size());
+  for (size_t k = r.frames.size(); k-- > 0;)
+    reversed.add(r.frames[k]);
+  EXPECT_EQ(reversed.boxes(), boxes);
+
+  TextureBoxFinder concurrent(params, r.dataset, r.frames.size());
+  std::vector<std::thread> workers;
+  for (size_t t = 0; t < 3; ++t)
+    workers.emplace_back([&, t] {
+      for (size_t k = t; k < r.frames.size(); k += 3)
+        concurrent.add(r.frames[k]);
+    });
+  for (std::thread& w : workers)
+    w.join();
+  EXPECT_EQ(concurrent.boxes(), boxes);
+
+  // Only the first frame: a box inside the union, and smaller in some camera (the object
+  // moves).
+  TextureBoxFinder first(params, r.dataset, r.frames.size());
+  first.add(r.frames[0]);
+  bool smaller = false;
+  for (size_t c = 0; c < boxes.size(); ++c) {
+    EXPECT_EQ(unite(first.boxes()[c], boxes[c]), boxes[c]) << "camera " << c;
+    smaller |= !(first.boxes()[c] == boxes[c]);
+  }
+  EXPECT_TRUE(smaller);
+
+  // The encoder's cameras carry these boxes.
+  const TextureEncoder encoder(params, r.dataset, r.frames);
+  for (size_t c = 0; c < boxes.size(); ++c)
+    EXPECT_EQ(textureBox(encoder.cameras()[c]), boxes[c]) << "camera " << c;
 }
 
 TEST(TextureThreads, EncoderOutputIsTheSameForAnyThreadCount) {
