@@ -463,18 +463,27 @@ inline uint32_t decodeTruncatedUnary(CabacDecoder& dec, ContextModel* ctxs, int 
   return cabac::decodeTruncatedUnary(engine, ctxs, uint32_t(numCtx - 1), cMax);
 }
 
+namespace cabac {
+
+// The arguments of decodeUEGk and decodeSignedUEGk: k in [0, 31], contexts when a prefix is
+// coded.
+inline void checkUegkArguments(const ContextModel* ctxs, int numCtx, int k, uint32_t uCoff) {
+  if (k < 0 || k > 31) throwBadK("decodeUEGk");
+  if (uCoff > 0 && (ctxs == nullptr || numCtx < 1)) throwNoContexts("decodeTruncatedUnary");
+}
+
+}  // namespace cabac
+
 inline uint32_t decodeUEGk(CabacDecoder& dec, ContextModel* ctxs, int numCtx, int k,
                            uint32_t uCoff) {
-  if (k < 0 || k > 31) cabac::throwBadK("decodeUEGk");
-  if (uCoff > 0 && (ctxs == nullptr || numCtx < 1)) cabac::throwNoContexts("decodeTruncatedUnary");
+  cabac::checkUegkArguments(ctxs, numCtx, k, uCoff);
   CabacDecoder::LocalEngine engine(dec);
   return cabac::decodeUEGk(engine, ctxs, numCtx, k, uCoff);
 }
 
 inline int32_t decodeSignedUEGk(CabacDecoder& dec, ContextModel* ctxs, int numCtx, int k,
                                 uint32_t uCoff) {
-  if (k < 0 || k > 31) cabac::throwBadK("decodeUEGk");
-  if (uCoff > 0 && (ctxs == nullptr || numCtx < 1)) cabac::throwNoContexts("decodeTruncatedUnary");
+  cabac::checkUegkArguments(ctxs, numCtx, k, uCoff);
   CabacDecoder::LocalEngine engine(dec);
   return cabac::decodeSignedUEGk(engine, ctxs, numCtx, k, uCoff);
 }

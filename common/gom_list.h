@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -41,6 +42,8 @@ GomList readGomList(const std::string& path, size_t frameCount = 0);
 // output) and 3dvo-render and 3dvo-metrics read them. Integers separated by white space or
 // commas, `#` comments; returned sorted, without repeats. Errors name the file and line.
 std::vector<int> readGomStarts(const std::string& path);
+// The GOM starts as text readGomStarts reads: a comment line, then one frame per line.
+std::string formatGomStarts(const std::vector<uint32_t>& starts);
 constexpr const char* kGomStartsFileName = "gom_starts.txt";
 
 }  // namespace tdvo

@@ -230,14 +230,10 @@ int main(int argc, char** argv) {
       outputs.write(
           outputDir + "/" + kDatasetFileName,
           formatDataset(decodedDataset(decoder, outputDir, meshPattern, frames), outputDir));
-    if (!outputDir.empty()) {
-      // Where each GOM starts: 3dvo-metrics matches vertices there (GroupStarts), the player
-      // of 3dvo-render --Mode=export seeks to these frames.
-      std::string starts = "# first frame of each GOM (3dvo-dec)\n";
-      for (uint32_t start : decoder.gomStarts())
-        starts += std::to_string(start) + "\n";
-      outputs.write(outputDir + "/" + kGomStartsFileName, starts);
-    }
+    // Where each GOM starts: 3dvo-metrics matches vertices there (GroupStarts), the player
+    // of 3dvo-render --Mode=export seeks to these frames.
+    if (!outputDir.empty())
+      outputs.write(outputDir + "/" + kGomStartsFileName, formatGomStarts(decoder.gomStarts()));
     if (!extractDir.empty()) extractTextures(streamPath, streamPath, extractDir, outputs);
     outputs.commit();
     createdFolder.keep = true;

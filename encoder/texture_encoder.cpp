@@ -28,10 +28,6 @@ std::vector<Mesh> readDatasetFrames(const Dataset& dataset, int firstFrame, int 
   return frames;
 }
 
-TextureEncoder::TextureEncoder(const EncoderParams& params, const Dataset& dataset,
-                               const std::vector<Mesh>& frames)
-    : TextureEncoder(params, dataset, frames.size(), [&frames](size_t k) { return frames[k]; }) {}
-
 TextureBoxFinder::TextureBoxFinder(const EncoderParams& params, const Dataset& dataset,
                                    size_t frameCount)
     : params_(params), dataset_(dataset) {
@@ -80,17 +76,16 @@ std::vector<TextureBox> TextureBoxFinder::boxes() const {
 
 namespace {
 
-// The boxes from meshes read by readFrame(k), params.threadCount() frames at a time.
+// The boxes from meshes in memory, params.threadCount() frames at a time.
 std::vector<TextureBox> findBoxes(const EncoderParams& params, const Dataset& dataset,
-                                  size_t frameCount,
-                                  const std::function<Mesh(size_t k)>& readFrame) {
-  TextureBoxFinder finder(params, dataset, frameCount);
+                                  const std::vector<Mesh>& frames) {
+  TextureBoxFinder finder(params, dataset, frames.size());
   if (params.textureMode == TextureBoxMode::kBox) {
     const int threads = params.threadCount();
     orderedParallelFor<int>(
-        frameCount, threads, 2 * static_cast<size_t>(threads),
+        frames.size(), threads, 2 * static_cast<size_t>(threads),
         [&](size_t k) {
-          finder.add(readFrame(k));
+          finder.add(frames[k]);
           return 0;
         },
         [](size_t, int&) {});
@@ -101,8 +96,8 @@ std::vector<TextureBox> findBoxes(const EncoderParams& params, const Dataset& da
 }  // namespace
 
 TextureEncoder::TextureEncoder(const EncoderParams& params, const Dataset& dataset,
-                               size_t frameCount, const std::function<Mesh(size_t k)>& readFrame)
-    : TextureEncoder(params, dataset, findBoxes(params, dataset, frameCount, readFrame)) {}
+                               const std::vector<Mesh>& frames)
+    : TextureEncoder(params, dataset, findBoxes(params, dataset, frames)) {}
 
 TextureEncoder::TextureEncoder(const EncoderParams& params, const Dataset& dataset,
                                const std::vector<TextureBox>& boxes)

@@ -9,7 +9,6 @@
 // it reports is exactly what a decoder outputs.
 #pragma once
 
-#include <functional>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -56,12 +55,9 @@ class TextureEncoder {
   // `dataset`.
   TextureEncoder(const EncoderParams& params, const Dataset& dataset,
                  const std::vector<TextureBox>& boxes);
-  // With the boxes found from the input meshes (frame k = dataset frame params.firstFrame + k,
-  // k < frameCount): readFrame(k) is called once per frame, params.threadCount() frames at a
-  // time (it must be thread-safe), and the boxes do not depend on the thread count.
-  TextureEncoder(const EncoderParams& params, const Dataset& dataset, size_t frameCount,
-                 const std::function<Mesh(size_t k)>& readFrame);
-  // The same with the meshes in memory.
+  // With the boxes found from the input meshes in memory (frame k = dataset frame
+  // params.firstFrame + k), params.threadCount() frames at a time; the boxes do not depend on
+  // the thread count.
   TextureEncoder(const EncoderParams& params, const Dataset& dataset,
                  const std::vector<Mesh>& frames);
   ~TextureEncoder();

@@ -454,10 +454,19 @@ TEST(MetricsApp, GroupStartsFromAFileMakeTheMatchingAtEachListedFrame) {
   // Frames 0 and 2 are matched on their own (the offset only), frame 1 reuses frame 0's.
   AppFixture fx;
   test::writeText(fx.dir.file("out/gom_starts.txt"), "# first frame of each GOM\n0\n2\n");
-  const test::CommandResult r = test::run(
-      fx.dir, kApp,
-      {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t", "out/%04d.obj",
-       "--Correspondence=nearest", "--GroupStarts=out/gom_starts.txt", "--CsvFile=m.csv"});
+  // The comparison of the fixture's sequences, matched as `groups` say.
+  auto compare = [&fx](std::vector<std::string> groups) {
+    std::vector<std::string> args = {"-r",
+                                     "ref_%d.obj.gz",
+                                     "--ReferenceFirstFrame=1",
+                                     "-t",
+                                     "out/%04d.obj",
+                                     "--Correspondence=nearest",
+                                     "--CsvFile=m.csv"};
+    args.insert(args.end(), groups.begin(), groups.end());
+    return test::run(fx.dir, kApp, args);
+  };
+  const test::CommandResult r = compare({"--GroupStarts=out/gom_starts.txt"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const auto rows = readCsv(fx.dir.file("m.csv"));
   const size_t rmse = column(rows[0], "vertex_rmse");
@@ -468,18 +477,11 @@ TEST(MetricsApp, GroupStartsFromAFileMakeTheMatchingAtEachListedFrame) {
 
   // Both ways of giving groups, or a bad line, is an error naming the cause; no CSV is left.
   std::filesystem::remove(fx.dir.file("m.csv"));
-  const test::CommandResult both =
-      test::run(fx.dir, kApp,
-                {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t", "out/%04d.obj",
-                 "--Correspondence=nearest", "--GroupSize=2", "--GroupStarts=out/gom_starts.txt",
-                 "--CsvFile=m.csv"});
+  const test::CommandResult both = compare({"--GroupSize=2", "--GroupStarts=out/gom_starts.txt"});
   EXPECT_EQ(both.exitCode, 1);
   EXPECT_NE(both.err.find("not both"), std::string::npos) << both.err;
   test::writeText(fx.dir.file("bad.txt"), "0\n2 x\n");
-  const test::CommandResult bad =
-      test::run(fx.dir, kApp,
-                {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t", "out/%04d.obj",
-                 "--Correspondence=nearest", "--GroupStarts=bad.txt", "--CsvFile=m.csv"});
+  const test::CommandResult bad = compare({"--GroupStarts=bad.txt"});
   EXPECT_EQ(bad.exitCode, 1);
   EXPECT_NE(bad.err.find("bad.txt:2"), std::string::npos) << bad.err;
   EXPECT_FALSE(std::filesystem::exists(fx.dir.file("m.csv")));
