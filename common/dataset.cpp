@@ -250,7 +250,8 @@ Dataset readDataset(const std::string& folderOrFile) {
   fs::path file = folderOrFile;
   std::error_code ec;
   if (fs::is_directory(file, ec)) file /= kDatasetFileName;
-  const std::vector<uint8_t> bytes = readFileBytes(file.string());
+  const std::vector<uint8_t> bytes =
+      readFileBytes(file.string(), kMaxTextFileBytes, "a dataset file");
   std::string folder = file.parent_path().generic_string();
   if (folder.empty()) folder = ".";
   return parseDataset(std::string(bytes.begin(), bytes.end()), file.string(), folder);

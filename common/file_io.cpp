@@ -29,35 +29,55 @@ using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
 
 }  // namespace
 
-std::vector<uint8_t> readFileBytes(const std::string& path) {
+namespace {
+
+[[noreturn]] void tooLarge(const std::string& path, uint64_t maxBytes, const std::string& what) {
+  throw Error(path + ": more than " + std::to_string(maxBytes) + " bytes: too large for " + what);
+}
+
+}  // namespace
+
+std::vector<uint8_t> readFileBytes(const std::string& path, uint64_t maxBytes, const char* what) {
   FilePtr f(std::fopen(path.c_str(), "rb"));
   if (!f) throw Error(path + ": cannot open: " + systemError());
   std::vector<uint8_t> data;
   uint8_t buffer[1 << 16];
   size_t n;
-  while ((n = std::fread(buffer, 1, sizeof buffer, f.get())) > 0)
+  while ((n = std::fread(buffer, 1, sizeof buffer, f.get())) > 0) {
+    if (n > maxBytes - data.size()) tooLarge(path, maxBytes, what);
     data.insert(data.end(), buffer, buffer + n);
+  }
   if (std::ferror(f.get())) throw Error(path + ": read error: " + systemError());
   return data;
 }
 
-std::string readFileMaybeGz(const std::string& path) {
+void readFileMaybeGzChunks(const std::string& path,
+                           const std::function<void(const char* data, size_t size)>& consume) {
   // gzopen reads plain files transparently, so one path serves both.
   FilePtr probe(std::fopen(path.c_str(), "rb"));
   if (!probe) throw Error(path + ": cannot open: " + systemError());
   probe.reset();
   gzFile gz = gzopen(path.c_str(), "rb");
   if (!gz) throw Error(path + ": cannot open: " + systemError());
-  std::string text;
+  struct GzCloser {
+    gzFile gz;
+    ~GzCloser() { gzclose(gz); }
+  } closer{gz};
   char buffer[1 << 16];
   int n;
   while ((n = gzread(gz, buffer, sizeof buffer)) > 0)
-    text.append(buffer, static_cast<size_t>(n));
+    consume(buffer, static_cast<size_t>(n));
   int errnum = Z_OK;
   const char* message = gzerror(gz, &errnum);
-  std::string error = (n < 0 || errnum != Z_OK) ? std::string(message) : std::string();
-  gzclose(gz);
-  if (!error.empty()) throw Error(path + ": cannot decompress: " + error);
+  if (n < 0 || errnum != Z_OK) throw Error(path + ": cannot decompress: " + message);
+}
+
+std::string readFileMaybeGz(const std::string& path, uint64_t maxBytes) {
+  std::string text;
+  readFileMaybeGzChunks(path, [&](const char* data, size_t size) {
+    if (size > maxBytes - text.size()) tooLarge(path, maxBytes, "an input file");
+    text.append(data, size);
+  });
   return text;
 }
 

@@ -1,17 +1,36 @@
 // Whole-file reading and atomic writing.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace tdvo {
 
-// Reads a whole file into memory. Throws Error naming the file when it cannot be opened or read.
-std::vector<uint8_t> readFileBytes(const std::string& path);
+// Size limits of the files read whole (docs/robustness.md, "Input files"): a file above its
+// limit (or a device such as /dev/zero that never ends) is refused with an error naming it,
+// after reading at most the limit.
+constexpr uint64_t kMaxCfgFileBytes = uint64_t{1} << 20;     // cfg files, GOM lists
+constexpr uint64_t kMaxTextFileBytes = uint64_t{1} << 26;    // dataset.json, calibration, paths
+constexpr uint64_t kMaxMd5LogBytes = uint64_t{1} << 28;      // 3dvo-dec --verify logs
+constexpr uint64_t kMaxBinaryFileBytes = uint64_t{1} << 30;  // images, texture files
 
-// Reads a whole file, decompressing it when it is gzip-compressed (through zlib).
-std::string readFileMaybeGz(const std::string& path);
+// Reads a whole file into memory. Throws Error naming the file when it cannot be opened or read,
+// or when it holds more than `maxBytes` bytes (`what` names the kind of file in that message:
+// "x.cfg: more than 1048576 bytes: too large for a cfg file").
+std::vector<uint8_t> readFileBytes(const std::string& path, uint64_t maxBytes = kMaxBinaryFileBytes,
+                                   const char* what = "an input file");
+
+// Reads a file chunk by chunk, decompressing it when it is gzip-compressed (through zlib), and
+// hands each chunk (at most 64 KiB) to `consume`: memory does not grow with the file.
+void readFileMaybeGzChunks(const std::string& path,
+                           const std::function<void(const char* data, size_t size)>& consume);
+
+// Reads a whole file, decompressing it when it is gzip-compressed; at most `maxBytes` bytes
+// after decompression (Error beyond that).
+std::string readFileMaybeGz(const std::string& path, uint64_t maxBytes = kMaxBinaryFileBytes);
 
 // Writes `size` bytes to `path` atomically: to a temporary name in the same folder first, then
 // renamed over `path`, so that no half-written file ever stands under the final name.

@@ -33,39 +33,35 @@ class ObjParser {
  public:
   explicit ObjParser(const std::string& name) : name_(name) {}
 
-  Mesh parse(std::string_view text) {
-    std::vector<std::string_view> tokens;
-    std::vector<uint32_t> corners;
+  // Parses the next piece of the text; lines may be split between pieces. Only the unfinished
+  // last line is kept, so memory does not grow with the file beyond the mesh itself.
+  void feed(std::string_view text) {
+    if (!pending_.empty()) {
+      const size_t end = text.find('\n');
+      if (end == std::string_view::npos) {
+        appendPending(text);
+        return;
+      }
+      appendPending(text.substr(0, end));
+      line(pending_);
+      pending_.clear();
+      text.remove_prefix(end + 1);
+    }
     size_t pos = 0;
     while (pos < text.size()) {
-      size_t end = text.find('\n', pos);
-      if (end == std::string_view::npos) end = text.size();
-      ++lineNumber_;
-      std::string_view line = text.substr(pos, end - pos);
-      pos = end + 1;
-      size_t hash = line.find('#');
-      if (hash != std::string_view::npos) line = line.substr(0, hash);
-      tokenize(line, tokens);
-      if (tokens.empty()) continue;
-      const std::string_view keyword = tokens[0];
-      if (keyword == "v") {
-        if (tokens.size() < 4) fail("vertex needs three coordinates");
-        // Extra values (w, or per-vertex colours) are allowed and ignored.
-        mesh_.positions.push_back({number(tokens[1]), number(tokens[2]), number(tokens[3])});
-      } else if (keyword == "f") {
-        if (tokens.size() < 4) fail("face needs at least three corners");
-        corners.clear();
-        for (size_t i = 1; i < tokens.size(); ++i)
-          corners.push_back(index(tokens[i]));
-        for (size_t i = 1; i + 1 < corners.size(); ++i)
-          mesh_.triangles.push_back({corners[0], corners[i], corners[i + 1]});
-      } else if (keyword == "vt" || keyword == "vn" || keyword == "vp" || keyword == "o" ||
-                 keyword == "g" || keyword == "s" || keyword == "mtllib" || keyword == "usemtl") {
-        // Not geometry 3DVO codes.
-      } else {
-        fail("unsupported statement '" + std::string(keyword) + "'");
+      const size_t end = text.find('\n', pos);
+      if (end == std::string_view::npos) {
+        appendPending(text.substr(pos));
+        return;
       }
+      line(text.substr(pos, end - pos));
+      pos = end + 1;
     }
+  }
+
+  Mesh finish() {
+    if (!pending_.empty()) line(pending_);
+    pending_.clear();
     // Indices may refer to vertices defined later in the file, so they are checked at the end,
     // against the largest index seen and the line it was on.
     if (!mesh_.triangles.empty() && maxIndex_ >= mesh_.positions.size()) {
@@ -79,6 +75,47 @@ class ObjParser {
   }
 
  private:
+  void appendPending(std::string_view piece) {
+    if (piece.size() > kMaxObjLineBytes - pending_.size()) {
+      ++lineNumber_;
+      fail("line longer than " + std::to_string(kMaxObjLineBytes) + " bytes");
+    }
+    pending_.append(piece);
+  }
+
+  void line(std::string_view line) {
+    ++lineNumber_;
+    if (line.size() > kMaxObjLineBytes)
+      fail("line longer than " + std::to_string(kMaxObjLineBytes) + " bytes");
+    size_t hash = line.find('#');
+    if (hash != std::string_view::npos) line = line.substr(0, hash);
+    tokenize(line, tokens_);
+    if (tokens_.empty()) return;
+    const std::vector<std::string_view>& tokens = tokens_;
+    const std::string_view keyword = tokens[0];
+    if (keyword == "v") {
+      if (tokens.size() < 4) fail("vertex needs three coordinates");
+      if (mesh_.positions.size() >= kMaxObjVertices)
+        fail("more than " + std::to_string(kMaxObjVertices) + " vertices");
+      // Extra values (w, or per-vertex colours) are allowed and ignored.
+      mesh_.positions.push_back({number(tokens[1]), number(tokens[2]), number(tokens[3])});
+    } else if (keyword == "f") {
+      if (tokens.size() < 4) fail("face needs at least three corners");
+      if (mesh_.triangles.size() + (tokens.size() - 3) > kMaxObjTriangles)
+        fail("more than " + std::to_string(kMaxObjTriangles) + " triangles");
+      corners_.clear();
+      for (size_t i = 1; i < tokens.size(); ++i)
+        corners_.push_back(index(tokens[i]));
+      for (size_t i = 1; i + 1 < corners_.size(); ++i)
+        mesh_.triangles.push_back({corners_[0], corners_[i], corners_[i + 1]});
+    } else if (keyword == "vt" || keyword == "vn" || keyword == "vp" || keyword == "o" ||
+               keyword == "g" || keyword == "s" || keyword == "mtllib" || keyword == "usemtl") {
+      // Not geometry 3DVO codes.
+    } else {
+      fail("unsupported statement '" + std::string(keyword) + "'");
+    }
+  }
+
   [[noreturn]] void fail(const std::string& what) const {
     throw Error(name_ + ":" + std::to_string(lineNumber_) + ": " + what);
   }
@@ -116,6 +153,9 @@ class ObjParser {
   uint32_t maxIndex_ = 0;    // largest 0-based vertex index in any face so far
   size_t maxIndexLine_ = 0;  // the line where it first appeared
   Mesh mesh_;
+  std::string pending_;  // the unfinished last line of the text fed so far
+  std::vector<std::string_view> tokens_;
+  std::vector<uint32_t> corners_;
 };
 
 void appendNumber(std::string& out, double value) {
@@ -127,11 +167,16 @@ void appendNumber(std::string& out, double value) {
 }  // namespace
 
 Mesh parseObj(const std::string& text, const std::string& name) {
-  return ObjParser(name).parse(text);
+  ObjParser parser(name);
+  parser.feed(text);
+  return parser.finish();
 }
 
 Mesh readObj(const std::string& path) {
-  return parseObj(readFileMaybeGz(path), path);
+  ObjParser parser(path);
+  readFileMaybeGzChunks(
+      path, [&](const char* data, size_t size) { parser.feed(std::string_view(data, size)); });
+  return parser.finish();
 }
 
 std::string formatObj(const Mesh& mesh) {

@@ -1,11 +1,19 @@
 // Wavefront OBJ reading and writing (v and f lines).
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 #include "common/mesh.h"
 
 namespace tdvo {
+
+// Limits of the OBJ reader (docs/robustness.md, "Input files"): beyond them it throws Error
+// naming the file and line. The file is parsed as it is read (decompressed), so a file of any
+// size takes memory for its mesh and one line only.
+constexpr size_t kMaxObjLineBytes = size_t{1} << 20;
+constexpr size_t kMaxObjVertices = size_t{1} << 26;   // 4 x the codec's 2^24
+constexpr size_t kMaxObjTriangles = size_t{1} << 27;  // 4 x the codec's 2^25
 
 // Reads an OBJ file; a name ending in .gz (or any gzip content) is decompressed on the fly.
 // Takes `v x y z` and `f a b c ...` lines (a/b/c index forms and negative indices allowed);

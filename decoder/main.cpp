@@ -29,7 +29,7 @@ namespace {
 
 // The "MD5 ..." lines of a log (other lines, e.g. summaries, are ignored).
 std::vector<std::string> readMd5Lines(const std::string& path) {
-  const std::vector<uint8_t> bytes = readFileBytes(path);
+  const std::vector<uint8_t> bytes = readFileBytes(path, kMaxMd5LogBytes, "an MD5 log");
   std::vector<std::string> lines;
   std::string line;
   for (size_t i = 0; i <= bytes.size(); ++i) {

@@ -917,6 +917,11 @@ CATALOGUE_TEST(D05) {
   expectRow("D05", "3dvo-dec", {"-i", "x.3dvo", "-o", "file/out"});
 }
 
+CATALOGUE_TEST(D06) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  expectRow("D06", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--verify", "/dev/zero"});
+}
+
 // ---- OBJ input (3dvo-enc) ----
 
 const std::string kTriangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
@@ -997,6 +1002,14 @@ CATALOGUE_TEST(O15) {
   std::vector<std::string> args = encoderArgs(2);
   args.push_back("--PMeshMode=d3dmc");
   expectRow("O15", "3dvo-enc", args);
+}
+
+CATALOGUE_TEST(O16) {
+  // A frame that never ends (and has no line break): refused after its first MiB.
+  writeInput("", 1);
+  std::filesystem::remove(dir_.file("in/000.obj"));
+  std::filesystem::create_symlink("/dev/zero", dir_.file("in/000.obj"));
+  expectRow("O16", "3dvo-enc", encoderArgs(1));
 }
 
 // ---- cfg and options (3dvo-enc) ----
@@ -1150,6 +1163,15 @@ CATALOGUE_TEST(C29) {
   }
 }
 
+CATALOGUE_TEST(C30) {
+  writeInput("", 1);
+  std::vector<std::string> args = encoderArgs(1);
+  args.push_back("-c");
+  args.push_back("/dev/zero");
+  expectRow("C30", "3dvo-enc", args);
+  expectCfgRow("C30", "GOMListFile : /dev/zero\n");
+}
+
 // ---- Calibration (dataset.json) and images (3dvo-import) ----
 
 // A valid dataset x/dataset.json: one 8 x 6 camera, one frame x/cam/0000.png. Each row's input
@@ -1198,6 +1220,12 @@ DATASET_TEST(J01) {
 DATASET_TEST(J02) {
   expectDatasetRow("J02", "\"frames\"", "\"frames\" {");
   expectDatasetRow("J02", "[[1", "[[1e999");  // a number beyond double
+}
+
+DATASET_TEST(J21) {
+  std::filesystem::create_directories(dir_.path() / "x");
+  std::filesystem::create_symlink("/dev/zero", dir_.file("x/dataset.json"));
+  expectRow("J21", "3dvo-import", {"-i", "x/dataset.json", "--Format=dataset", "-o", "out"});
 }
 
 DATASET_TEST(J03) {

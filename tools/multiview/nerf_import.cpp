@@ -38,7 +38,8 @@ double number(const Json& object, const char* key, const std::string& where) {
 }  // namespace
 
 Dataset importNerf(const std::string& transformsFile) {
-  const std::vector<uint8_t> bytes = readFileBytes(transformsFile);
+  const std::vector<uint8_t> bytes =
+      readFileBytes(transformsFile, kMaxTextFileBytes, "a calibration file");
   Json root;
   try {
     root = Json::parse(bytes.begin(), bytes.end());

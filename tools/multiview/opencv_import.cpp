@@ -74,7 +74,7 @@ int optionalInteger(const tinyxml2::XMLElement* root, std::initializer_list<cons
 
 DatasetCamera readCameraXml(const std::string& file, const std::string& name) {
   tinyxml2::XMLDocument doc;
-  const std::vector<uint8_t> bytes = readFileBytes(file);
+  const std::vector<uint8_t> bytes = readFileBytes(file, kMaxTextFileBytes, "a calibration file");
   if (doc.Parse(reinterpret_cast<const char*>(bytes.data()), bytes.size()) != tinyxml2::XML_SUCCESS)
     throw Error(file + ":" + std::to_string(doc.ErrorLineNum()) +
                 ": invalid XML: " + doc.ErrorStr());

@@ -102,7 +102,7 @@ std::vector<Camera> readPoses(const std::string& path, const Camera& intrinsics,
       poses.push_back(c.camera);
     return poses;
   }
-  const std::vector<uint8_t> bytes = readFileBytes(path);
+  const std::vector<uint8_t> bytes = readFileBytes(path, kMaxTextFileBytes, "a camera path");
   std::istringstream in(std::string(bytes.begin(), bytes.end()));
   std::string line;
   int lineNumber = 0;
