@@ -19,13 +19,12 @@ struct SwsDeleter {
 // One conversion between packed RGB24 and planar YUV 4:2:0 with the documented set-up.
 std::unique_ptr<SwsContext, SwsDeleter> converter(int width, int height, AVPixelFormat from,
                                                   AVPixelFormat to) {
-  const int flags =
-      SWS_BILINEAR | SWS_ACCURATE_RND | SWS_BITEXACT | SWS_FULL_CHR_H_INT | SWS_FULL_CHR_H_INP;
+  const int flags = SWS_BILINEAR | SWS_ACCURATE_RND | SWS_BITEXACT | SWS_FULL_CHR_H_INT |
+                    SWS_FULL_CHR_H_INP;
   std::unique_ptr<SwsContext, SwsDeleter> c(
       sws_getContext(width, height, from, width, height, to, flags, nullptr, nullptr, nullptr));
-  if (!c)
-    throw Error("libswscale cannot convert " + std::to_string(width) + "x" +
-                std::to_string(height) + " pictures");
+  if (!c) throw Error("libswscale cannot convert " + std::to_string(width) + "x" +
+                      std::to_string(height) + " pictures");
   const int* bt601 = sws_getCoefficients(SWS_CS_ITU601);
   // srcRange / dstRange: 0 = limited (16..235 luma), 1 = full. RGB is full range.
   const int srcRange = from == AV_PIX_FMT_RGB24 ? 1 : 0;

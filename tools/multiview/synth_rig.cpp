@@ -13,8 +13,8 @@
 #include "common/obj_io.h"
 #include "common/progress.h"
 #include "common/rasteriser.h"
-#include "common/sample_mesh.h"
 #include "common/sequence.h"
+#include "common/sample_mesh.h"
 #include "tools/multiview/importers.h"
 
 namespace tdvo {
