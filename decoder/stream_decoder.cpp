@@ -1,6 +1,7 @@
 #include "decoder/stream_decoder.h"
 
 #include <exception>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -57,6 +58,76 @@ T parseUnit(const UnitView& unit, const std::string& name, std::FILE* trace,
   return value;
 }
 
+// Makes a GOM's frames again, in frame order, for the texture pass, from what the geometry
+// pass kept: the I mesh and the P-mesh payloads (intra GOMs: the Draco payloads). What is kept
+// is bounded by the stream's bytes, and only the frame being made is held, so a textured GOM
+// takes memory for a few frames, not for all of them (docs/robustness.md, "Memory").
+// The payloads decoded without error in the geometry pass, so they decode the same here.
+struct GomReplay {
+  PMeshMode mode = PMeshMode::kIntra;
+  int gridBits = 0;
+  std::string where;  // the GOM header (for messages; none is expected)
+  PMeshParams params;
+  std::vector<uint16_t> keyframes;
+  IntMesh first;  // the GOM's I mesh (P-mesh GOMs)
+  GomTopology topology;
+  std::vector<std::vector<uint8_t>> payloads;  // per P mesh; per frame in intra GOMs
+  uint32_t produced = 0;                       // frames made so far
+
+  void start(PMeshMode m, int bits, const std::string& gomWhere, const PMeshParams& p,
+             const std::vector<uint16_t>& keys) {
+    mode = m;
+    gridBits = bits;
+    where = gomWhere;
+    params = p;
+    keyframes = keys;
+    first = IntMesh();
+    topology = GomTopology();
+    payloads.clear();
+    produced = 0;
+    n_ = 0;
+  }
+
+  // The GOM's next frame (frame `produced` before the call).
+  const IntMesh& next() {
+    const int f = static_cast<int>(produced++);
+    if (mode == PMeshMode::kIntra) {
+      current_ = decodeIMesh(payloads[f], gridBits, where);
+      payloads[f] = std::vector<uint8_t>();  // each is decoded once
+      return current_;
+    }
+    if (f == 0) {
+      current_ = first;
+      previous_ = first.positions;
+      n_ = 1;
+      return current_;
+    }
+    const int a = keyframes[n_ - 1], b = keyframes[n_];
+    if (f == a + 1) {
+      const std::vector<uint8_t>& payload = payloads[n_ - 1];
+      if (mode == PMeshMode::kD3dmc)
+        decodePMesh(payload.data(), payload.size(), topology, previous_, params, where, work_,
+                    key_);
+      else
+        decodeTemporalDpcm(payload.data(), payload.size(), previous_, params, where, key_);
+    }
+    if (f < b) {
+      interpolateFrame(previous_, key_, a, b, f, current_.positions);
+    } else {
+      current_.positions = key_;
+      previous_.swap(key_);
+      ++n_;
+    }
+    return current_;
+  }
+
+ private:
+  size_t n_ = 0;  // the keyframe interval being made: keyframes n_ - 1 .. n_
+  std::vector<Vec3i> previous_, key_;
+  PMeshWorkspace work_;
+  IntMesh current_;
+};
+
 }  // namespace
 
 void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& onTexture,
@@ -108,19 +179,30 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
         std::make_unique<H264Decoder>(name_ + ": camera " + std::to_string(c)));
   }
   const Grid textureGrid = grid();
-  std::vector<Mesh> gomMeshes;
-  auto emit = [&](int frame, const IntMesh& m) {
-    onFrame(frame, m);
-    if (!cameras.empty()) gomMeshes.push_back(textureGrid.dequantise(m));
-  };
-  // Item i = k * cameras + c is camera c's texture of the GOM's frame k. Whichever worker
-  // needs a unit reads the units up to it, in item order, under a lock; the pictures are
-  // decoded and the shapes rasterised on threads_ threads, at most `cameras` items started and
-  // not yet consumed: item i starts only once item i - cameras (the same camera's previous
-  // picture, through the same H.264 decoder) has been consumed. Callbacks and errors come in
-  // item order on the calling thread, as in a sequential run, for any thread count.
-  auto decodeTextures = [&](uint32_t first) {
-    const size_t count = gomMeshes.size() * cameras.size();
+  const bool textured = !cameras.empty();
+  GomReplay replay;
+  auto emit = [&](int frame, const IntMesh& m) { onFrame(frame, m); };
+  auto decodeTextures = [&](uint32_t first, uint32_t frames) {
+    const size_t count = size_t{frames} * cameras.size();
+    // The GOM's frames, made again in order as the items ask for them: each is kept until
+    // every camera's item has taken it (at most a few frames at a time).
+    struct Made {
+      std::shared_ptr<const Mesh> mesh;
+      size_t taken = 0;
+    };
+    std::mutex frameMutex;
+    std::map<size_t, Made> made;
+    auto frameMesh = [&](size_t k) {
+      std::lock_guard<std::mutex> lock(frameMutex);
+      while (replay.produced <= k) {
+        const size_t f = replay.produced;
+        made[f].mesh = std::make_shared<const Mesh>(textureGrid.dequantise(replay.next()));
+      }
+      auto it = made.find(k);
+      std::shared_ptr<const Mesh> mesh = it->second.mesh;
+      if (++it->second.taken == cameras.size()) made.erase(it);
+      return mesh;
+    };
     struct Parsed {
       TextureUnit tx;
       std::string where;
@@ -169,7 +251,7 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
           } catch (const Error& e) {
             throw Error(p.where + ": " + e.what());
           }
-          d.shape = textureShape(gomMeshes[k], cameras[c]);
+          d.shape = textureShape(*frameMesh(k), cameras[c]);
           if (prepareTexture)
             prepareTexture(static_cast<int>(first + k), static_cast<int>(c), d.picture, d.shape);
           return d;
@@ -179,7 +261,6 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
             onTexture(static_cast<int>(first + i / cameras.size()),
                       static_cast<int>(i % cameras.size()), d.picture, d.shape);
         });
-    gomMeshes.clear();
   };
 
   while (nextFrame < sh_.sh_frame_count) {
@@ -205,6 +286,8 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
       throw Error(gomWhere + ": gh_max_octree_depth " + std::to_string(gh.gh_max_octree_depth) +
                   " exceeds sh_grid_bits " + std::to_string(sh_.sh_grid_bits));
 
+    if (textured) replay.start(mode, sh_.sh_grid_bits, gomWhere, pmParams, gh.keyframes);
+
     // `frames`: the frames made from this I mesh's vertices (the GOM's; 1 in an intra GOM).
     auto readIMesh = [&](uint32_t frame, uint32_t frames) {
       expectUnit(UnitType::kIMesh, "for frame " + std::to_string(frame));
@@ -215,13 +298,14 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
                     std::to_string(frame));
       IntMesh decoded = decodeIMesh(im.im_draco_payload, sh_.sh_grid_bits, where);
       limitDecodingWork(gomWhere, frames, decoded.positions.size());
+      if (textured && mode == PMeshMode::kIntra) replay.payloads.push_back(im.im_draco_payload);
       return decoded;
     };
 
     if (mode == PMeshMode::kIntra) {
       for (uint32_t k = 0; k < gh.gh_frame_count; ++k, ++nextFrame)
         emit(static_cast<int>(nextFrame), readIMesh(nextFrame, 1));
-      decodeTextures(gh.gh_first_frame);
+      if (textured) decodeTextures(gh.gh_first_frame, gh.gh_frame_count);
       continue;
     }
 
@@ -235,6 +319,7 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
         throw Error(name_ + ": " + unit.describe() + ": " + e.what());
       }
     emit(static_cast<int>(nextFrame), mesh);
+    if (textured) replay.first = mesh;
     previous.assign(mesh.positions.begin(), mesh.positions.end());
     for (size_t n = 1; n < gh.keyframes.size(); ++n) {
       const int a = gh.keyframes[n - 1], b = gh.keyframes[n];
@@ -246,6 +331,7 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
         throw Error(where + ": pm_frame " + std::to_string(pm.pm_frame) + " but expected " +
                     std::to_string(frame));
       const std::vector<uint8_t>& payload = pm.pm_cabac_payload;
+      if (textured) replay.payloads.push_back(payload);
       if (mode == PMeshMode::kD3dmc)
         decodePMesh(payload.data(), payload.size(), topology, previous, pmParams, where, work, key,
                     trace_);
@@ -260,7 +346,10 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
       previous.swap(mesh.positions);  // ... and becomes the reference of the next one
     }
     nextFrame += gh.gh_frame_count;
-    decodeTextures(gh.gh_first_frame);
+    if (textured) {
+      replay.topology = std::move(topology);
+      decodeTextures(gh.gh_first_frame, gh.gh_frame_count);
+    }
   }
   if (units.next(unit))
     throw Error(name_ + ": " + unit.describe() + ": unit after the last frame (sh_frame_count " +

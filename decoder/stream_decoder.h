@@ -30,7 +30,9 @@ using FrameCallback = std::function<void(int frame, const IntMesh& mesh)>;
 // Called once per camera and frame with a decoded texture picture (the camera's texture box)
 // and the object's shape in that camera (a mask of the full camera frame, from the decoded
 // mesh). Texture calls of a GOM follow the frame calls of that GOM, frames in order, cameras in
-// order within a frame.
+// order within a frame. The texture pass makes the GOM's frames again from the GOM's geometry
+// payloads (kept as read), a few at a time, so a GOM's frames are never all in memory at once
+// (docs/robustness.md, "Memory").
 using TextureCallback =
     std::function<void(int frame, int camera, const YuvPicture& picture, const Image& shape)>;
 
