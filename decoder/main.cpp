@@ -117,6 +117,7 @@ int main(int argc, char** argv) {
     bool trace = false;
     int threads = 1;
     int maxVertexFramesPerByte = static_cast<int>(kDefaultMaxVertexFramesPerByte);
+    int maxTexturePixelsPerByte = static_cast<int>(kDefaultMaxTexturePixelsPerByte);
     PngEffort pngEffort = PngEffort::kFast;
     OptionTable table("3dvo-dec", "3dvo-dec -i STREAM.3dvo [-o OUTDIR] [--verify MD5LOG]");
     table.section("Decoder");
@@ -139,6 +140,10 @@ int main(int argc, char** argv) {
               "refuse a stream declaring more decoded vertices x frames than this per stream "
               "byte read (a GOM's frames x its I mesh's vertices, summed; docs/robustness.md); "
               "0 = no limit");
+    table.add("MaxTexturePixelsPerByte", maxTexturePixelsPerByte, 0, 1 << 30,
+              "refuse a stream whose texture units add up to more camera pixels than this per "
+              "stream byte read, or whose camera frames need more memory than the stream read "
+              "so far allows (2^21 + 2 pixels per byte; docs/robustness.md); 0 = no limit");
     table.add("Trace", trace, "print every syntax element read to stderr", "--trace");
     table.add("Threads", threads, 0, 256,
               "cameras whose textures are decoded in parallel (0 = hardware concurrency); the "
@@ -171,6 +176,7 @@ int main(int argc, char** argv) {
     const uint64_t streamBytes = units.fileSize();
     StreamDecoder decoder(units, streamPath, trace ? stderr : nullptr);
     decoder.setMaxVertexFramesPerByte(static_cast<uint64_t>(maxVertexFramesPerByte));
+    decoder.setMaxTexturePixelsPerByte(static_cast<uint64_t>(maxTexturePixelsPerByte));
     decoder.setThreads(
         threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency())));
     StagedFiles outputs;

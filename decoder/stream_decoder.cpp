@@ -1,5 +1,6 @@
 #include "decoder/stream_decoder.h"
 
+#include <algorithm>
 #include <exception>
 #include <map>
 #include <memory>
@@ -178,6 +179,36 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
     textureDecoders.push_back(
         std::make_unique<H264Decoder>(name_ + ": camera " + std::to_string(c)));
   }
+  // The texture-work limit (kDefaultMaxTexturePixelsPerByte): each camera's pixels, and the
+  // camera pixels of the texture units read so far.
+  std::vector<uint64_t> cameraPixels;
+  for (const CameraParameters& c : sh_.cameras) {
+    const TextureBox box = textureBox(c);
+    cameraPixels.push_back(
+        std::max(uint64_t{c.cam_width} * c.cam_height,
+                 uint64_t{static_cast<uint32_t>(box.width)} * static_cast<uint32_t>(box.height)));
+  }
+  uint64_t texturePixels = 0;
+  auto limitTextureWork = [&](const std::string& where, size_t c) {
+    const uint64_t limit = maxTexturePixelsPerByte_;
+    if (limit == 0) return;
+    const uint64_t bytesRead = unit.payloadOffset + unit.size + 4;  // through the unit's CRC
+    const uint64_t pixels = cameraPixels[c];
+    const CameraParameters& cp = sh_.cameras[c];
+    if (pixels > kTexturePixelsFree + kTexturePixelsPerByte * bytesRead)
+      throw Error(where + ": camera " + std::to_string(c) + "'s " + std::to_string(cp.cam_width) +
+                  "x" + std::to_string(cp.cam_height) + " frames need more memory than " +
+                  std::to_string(bytesRead) + " stream bytes allow (" +
+                  std::to_string(kTexturePixelsFree) + " + " +
+                  std::to_string(kTexturePixelsPerByte) +
+                  " pixels per stream byte; MaxTexturePixelsPerByte)");
+    texturePixels += pixels;  // < 2^20 frames x 64 cameras x 2^28 pixels: no overflow
+    if ((texturePixels - 1) / bytesRead < limit) return;
+    throw Error(where + ": texture units take the decoded camera pixels to " +
+                std::to_string(texturePixels) + " from " + std::to_string(bytesRead) +
+                " stream bytes, more than the limit of " + std::to_string(limit) +
+                " pixels per stream byte (MaxTexturePixelsPerByte)");
+  };
   const Grid textureGrid = grid();
   const bool textured = !cameras.empty();
   GomReplay replay;
@@ -227,6 +258,7 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
             throw Error(p.where + ": texture of camera " + std::to_string(p.tx.tx_camera) +
                         ", frame " + std::to_string(p.tx.tx_frame) + " but expected camera " +
                         std::to_string(c) + ", frame " + std::to_string(frame));
+          limitTextureWork(p.where, c);
           ++unitsRead;
         } catch (...) {
           readError = std::current_exception();

@@ -24,6 +24,19 @@ namespace tdvo {
 // length whose I mesh costs at least one byte per vertex.
 constexpr uint64_t kDefaultMaxVertexFramesPerByte = uint64_t{1} << 16;
 
+// Texture-work limit (docs/robustness.md, "Limits and decoding work"): every TEXTURE unit
+// costs work and memory in proportion to its camera's pixels (the shape is a mask of the whole
+// camera frame; the picture is the texture box), not to its bytes. Checked for each texture
+// unit as it is read, before its picture is decoded, with B the stream bytes read through it:
+// - the camera pixels of the texture units so far (a camera's pixels: the larger of its frame
+//   and its texture box) may be at most this many per byte: B x 2^16;
+// - one camera's pixels at most kTexturePixelsFree + kTexturePixelsPerByte x B, so that a
+//   picture's memory is bounded by the stream read so far (a 1920 x 1080 camera always passes).
+// setMaxTexturePixelsPerByte(0) lifts both.
+constexpr uint64_t kDefaultMaxTexturePixelsPerByte = uint64_t{1} << 16;
+constexpr uint64_t kTexturePixelsFree = uint64_t{1} << 21;
+constexpr uint64_t kTexturePixelsPerByte = 2;
+
 // Called once per decoded frame, in frame order; `frame` counts from 0.
 using FrameCallback = std::function<void(int frame, const IntMesh& mesh)>;
 
@@ -57,6 +70,8 @@ class StreamDecoder {
 
   // Sets the decoding-work limit (kDefaultMaxVertexFramesPerByte above); 0 lifts it.
   void setMaxVertexFramesPerByte(uint64_t limit) { maxVertexFramesPerByte_ = limit; }
+  // Sets the texture-work limit (kDefaultMaxTexturePixelsPerByte above); 0 lifts it.
+  void setMaxTexturePixelsPerByte(uint64_t limit) { maxTexturePixelsPerByte_ = limit; }
   // Decodes the cameras' textures on this many threads (default 1: on the calling thread).
   // Each camera's pictures are decoded in order; onFrame and onTexture, their order and thread
   // (the calling one), the output and any error are the same for every thread count.
@@ -80,6 +95,7 @@ class StreamDecoder {
   uint64_t textureBytes_ = 0;
   std::vector<uint32_t> gomStarts_;
   uint64_t maxVertexFramesPerByte_ = kDefaultMaxVertexFramesPerByte;
+  uint64_t maxTexturePixelsPerByte_ = kDefaultMaxTexturePixelsPerByte;
   int threads_ = 1;
 };
 

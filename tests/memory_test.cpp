@@ -23,6 +23,7 @@
 #include "bitstream/units.h"
 #include "common/error.h"
 #include "decoder/stream_decoder.h"
+#include "encoder/h264_encoder.h"
 #include "encoder/sequence_encoder.h"
 #include "fuzz/fuzz_support.h"
 #include "tests/test_support.h"
@@ -148,9 +149,11 @@ std::vector<uint8_t> fileBytes(const std::filesystem::path& path) {
 
 // One d3dmc GOM of `gomFrames` frames of a static flat n x n sheet on a 10-bit grid (keyframes:
 // the first and the last frame), encoded as 2 frames and renumbered, with `cameras` cameras of
-// `size` x `size` pixels in its sequence header and no texture unit: the frames between the
-// keyframes cost no bytes.
-std::vector<Unit> texturedSheetUnits(int n, uint16_t gomFrames, int cameras, uint16_t size) {
+// `size` x `size` pixels in its sequence header: the frames between the keyframes cost no
+// bytes. The texture units of the first `textureUnits` frames follow (camera 0 only: a flat
+// grey picture of the 16 x 16 texture box, IDR first).
+std::vector<Unit> texturedSheetUnits(int n, uint16_t gomFrames, int cameras, uint16_t size,
+                                     int textureUnits = 0) {
   Mesh sheet = test::waveSheet(n, n, 1)[0];
   for (Vec3d& p : sheet.positions)
     p[2] = 0;
@@ -183,6 +186,15 @@ std::vector<Unit> texturedSheetUnits(int n, uint16_t gomFrames, int cameras, uin
   PMeshUnit pm = parse<PMeshUnit>(units[3]);
   pm.pm_frame = gomFrames - 1u;
   units[3].payload = serialise(pm);
+  H264Settings settings;
+  settings.width = settings.height = 16;
+  H264Encoder encoder(settings);
+  for (int f = 0; f < textureUnits; ++f) {
+    TextureUnit tx;
+    tx.tx_frame = static_cast<uint32_t>(f);
+    tx.tx_access_unit = encoder.encode(YuvPicture(16, 16), f == 0);
+    units.push_back({static_cast<uint8_t>(UnitType::kTexture), serialise(tx)});
+  }
   return units;
 }
 
@@ -231,6 +243,18 @@ TEST(Memory, TexturedLongGomKeepsFewFrames) {
   // The stream ends where the texture units belong: the geometry decoded within the bound.
   EXPECT_NE(outcome.find("error: "), std::string::npos) << outcome;
   EXPECT_NE(outcome.find("expected a TEXTURE unit"), std::string::npos) << outcome;
+}
+
+// Issue 18, item 3: the camera's image size, not the texture box or the unit's bytes, set the
+// work and memory per texture unit (the shape is a mask of the whole camera frame): one
+// 16384 x 16384 camera in a stream of about 1.5 KB made a 268 MB mask per texture unit (and
+// 3dvo-dec a 1 GB RGBA frame). Now refused (texture-work limit, errors.md G13).
+TEST(Memory, HugeCameraIsRefusedWithinTheBound) {
+  SKIP_UNDER_ASAN();
+  const std::vector<uint8_t> stream = join(texturedSheetUnits(10, 4, 1, 16384, 4));
+  keep(stream, "huge-camera");
+  const std::string outcome = decodeWithinBound(stream);
+  EXPECT_NE(outcome.find("frames need more memory than"), std::string::npos) << outcome;
 }
 
 }  // namespace
