@@ -1,5 +1,10 @@
 #include "decoder/draco_limits.h"
 
+#include <draco/compression/config/decoder_options.h>
+#include <draco/compression/mesh/mesh_edgebreaker_decoder.h>
+#include <draco/compression/mesh/mesh_sequential_decoder.h>
+#include <draco/mesh/mesh.h>
+
 #include <cstring>
 
 #include "bitstream/syntax.h"
@@ -104,6 +109,104 @@ DracoMeshCounts checkDracoMeshCounts(const std::vector<uint8_t>& payload,
     in.fail("declares " + std::to_string(c.numFaces) + " triangles (limit " +
             std::to_string(kMaxTriangles) + ")");
   return c;
+}
+
+namespace {
+
+// Draco's attribute and data type codes (draco/attributes/geometry_attribute.h,
+// draco/core/draco_types.h).
+constexpr uint8_t kDracoPosition = 0;
+constexpr uint8_t kDracoInt32 = 5;
+
+// A Draco mesh decoder that checks the attribute descriptors before its base class reads them.
+template <class Base>
+class CheckedDecoder : public Base {
+ public:
+  explicit CheckedDecoder(bool edgebreaker) : edgebreaker_(edgebreaker) {}
+  const std::string& refusal() const { return refusal_; }
+
+ protected:
+  bool DecodePointAttributes() override {
+    draco::DecoderBuffer* buffer = this->buffer();
+    refusal_ =
+        checkDracoAttributeDescriptors(reinterpret_cast<const uint8_t*>(buffer->data_head()),
+                                       static_cast<size_t>(buffer->remaining_size()), edgebreaker_);
+    if (!refusal_.empty()) return false;
+    return Base::DecodePointAttributes();
+  }
+
+ private:
+  bool edgebreaker_;
+  std::string refusal_;
+};
+
+template <class Base>
+std::unique_ptr<draco::Mesh> decodeWith(const std::vector<uint8_t>& payload, bool edgebreaker,
+                                        const std::string& context) {
+  draco::DecoderBuffer buffer;
+  buffer.Init(reinterpret_cast<const char*>(payload.data()), payload.size());
+  auto mesh = std::make_unique<draco::Mesh>();
+  CheckedDecoder<Base> decoder(edgebreaker);
+  const draco::Status status = decoder.Decode(draco::DecoderOptions(), &buffer, mesh.get());
+  if (!decoder.refusal().empty()) throw Error(context + ": im_draco_payload: " + decoder.refusal());
+  if (!status.ok())
+    throw Error(context + ": Draco cannot decode im_draco_payload: " + status.error_msg_string());
+  return mesh;
+}
+
+}  // namespace
+
+std::string checkDracoAttributeDescriptors(const uint8_t* data, size_t size, bool edgebreaker) {
+  size_t pos = 0;
+  bool ended = false;
+  auto u8 = [&]() -> uint8_t {
+    if (pos >= size) {
+      ended = true;
+      return 0;
+    }
+    return data[pos++];
+  };
+  auto varint = [&]() -> uint64_t {
+    uint64_t v = 0;
+    for (int shift = 0; shift < 35; shift += 7) {
+      const uint8_t b = u8();
+      v |= uint64_t{b & 0x7Fu} << shift;
+      if (!(b & 0x80)) return v;
+    }
+    return UINT64_MAX;
+  };
+  const std::string where = "Draco attribute data: ";
+  const uint8_t decoders = u8();
+  if (ended) return where + "ends before num_attributes_decoders";
+  if (decoders != 1)
+    return where + std::to_string(decoders) + " attribute decoders (an I mesh has 1)";
+  if (edgebreaker) {
+    u8();  // att_data_id
+    u8();  // decoder_type
+    u8();  // traversal_method
+  }
+  const uint64_t attributes = varint();
+  if (ended) return where + "ends inside the attribute decoder's header";
+  if (attributes != 1)
+    return where +
+           (attributes == UINT64_MAX ? std::string("a num_attributes beyond 32 bits")
+                                     : std::to_string(attributes) + " attributes") +
+           " (an I mesh has 1: POSITION)";
+  const uint8_t type = u8(), dataType = u8(), components = u8();
+  if (ended) return where + "ends inside the attribute descriptor";
+  if (type != kDracoPosition || dataType != kDracoInt32 || components != 3)
+    return where + "attribute of type " + std::to_string(type) + ", data type " +
+           std::to_string(dataType) + ", " + std::to_string(components) +
+           " components (an I mesh has one POSITION attribute of 3 int32 components)";
+  return "";
+}
+
+std::unique_ptr<draco::Mesh> decodeCheckedDracoMesh(const std::vector<uint8_t>& payload,
+                                                    const DracoMeshCounts& counts,
+                                                    const std::string& context) {
+  if (counts.encoderMethod == kEdgebreakerEncoding)
+    return decodeWith<draco::MeshEdgebreakerDecoder>(payload, true, context);
+  return decodeWith<draco::MeshSequentialDecoder>(payload, false, context);
 }
 
 }  // namespace tdvo

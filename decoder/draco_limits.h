@@ -10,9 +10,15 @@
 // the largest allowed size needs.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
+
+namespace draco {
+class Mesh;
+}
 
 namespace tdvo {
 
@@ -34,5 +40,22 @@ struct DracoMeshCounts {
 // `context`, otherwise. Draco checks everything after these fields itself.
 DracoMeshCounts checkDracoMeshCounts(const std::vector<uint8_t>& payload,
                                      const std::string& context);
+
+// Checks the attribute descriptors at the start of a Draco 2.2 mesh's attribute data (`data`,
+// `size`: what follows the connectivity data; Draco specification: DecodeAttributeData,
+// ParseAttributeDecodersData), before Draco allocates anything from them: Draco sizes an
+// attribute's values as points x components x the type's size, so a payload declaring many
+// attributes or components would make it allocate without bound. An I mesh has exactly one
+// attribute decoder with exactly one attribute, POSITION, of 3 int32 components (what
+// decodeIMesh requires of the decoded mesh anyway). Returns "" when the descriptors pass,
+// otherwise what is wrong.
+std::string checkDracoAttributeDescriptors(const uint8_t* data, size_t size, bool edgebreaker);
+
+// Decodes a Draco mesh payload whose counts checkDracoMeshCounts has checked, checking its
+// attribute descriptors (checkDracoAttributeDescriptors) before Draco reads them. Throws Error
+// prefixed by `context` when Draco cannot decode it or the descriptors are refused.
+std::unique_ptr<draco::Mesh> decodeCheckedDracoMesh(const std::vector<uint8_t>& payload,
+                                                    const DracoMeshCounts& counts,
+                                                    const std::string& context);
 
 }  // namespace tdvo

@@ -1,6 +1,5 @@
 #include "decoder/imesh_decoder.h"
 
-#include <draco/compression/decode.h>
 #include <draco/mesh/mesh.h>
 
 #include "bitstream/syntax.h"
@@ -12,18 +11,9 @@ namespace tdvo {
 IntMesh decodeIMesh(const std::vector<uint8_t>& payload, int gridBits, const std::string& context) {
   // Draco allocates from the counts it reads before it checks them against the payload: those
   // counts are checked first (draco_limits.h).
-  checkDracoMeshCounts(payload, context);
-  draco::DecoderBuffer buffer;
-  buffer.Init(reinterpret_cast<const char*>(payload.data()), payload.size());
-  auto type = draco::Decoder::GetEncodedGeometryType(&buffer);
-  if (!type.ok() || type.value() != draco::TRIANGULAR_MESH)
-    throw Error(context + ": im_draco_payload is not a Draco triangle mesh");
-  draco::Decoder decoder;
-  auto result = decoder.DecodeMeshFromBuffer(&buffer);
-  if (!result.ok())
-    throw Error(context +
-                ": Draco cannot decode im_draco_payload: " + result.status().error_msg_string());
-  std::unique_ptr<draco::Mesh> dm = std::move(result).value();
+  // Likewise the attribute descriptors, as Draco reaches them (decodeCheckedDracoMesh).
+  const DracoMeshCounts counts = checkDracoMeshCounts(payload, context);
+  std::unique_ptr<draco::Mesh> dm = decodeCheckedDracoMesh(payload, counts, context);
 
   const uint32_t numPoints = dm->num_points();
   const uint32_t numFaces = dm->num_faces();

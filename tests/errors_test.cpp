@@ -245,6 +245,21 @@ std::vector<uint8_t> dracoWithCounts(uint32_t vertices, uint32_t faces, uint32_t
   return out;
 }
 
+// A Draco I-mesh payload with its attribute descriptor patched: the descriptor (num_attributes
+// 1, POSITION, int32, 3 components, not normalized) is found by its bytes and its data type,
+// components and attribute count replaced.
+std::vector<uint8_t> dracoWithDescriptor(std::vector<uint8_t> p, uint8_t attributes,
+                                         uint8_t dataType, uint8_t components) {
+  const uint8_t descriptor[] = {1, 0, 5, 3, 0};
+  auto at = std::search(p.begin() + 12, p.end(), std::begin(descriptor), std::end(descriptor));
+  EXPECT_NE(at, p.end()) << "no POSITION int32 x 3 descriptor found";
+  if (at == p.end()) return p;
+  at[0] = attributes;
+  at[2] = dataType;
+  at[3] = components;
+  return p;
+}
+
 // A Draco payload of any geometry, encoded by Draco itself.
 std::vector<uint8_t> dracoEncode(draco::PointCloud& geometry, bool mesh) {
   draco::Encoder encoder;
@@ -855,6 +870,21 @@ CATALOGUE_TEST(I14) {
   units[2].payload =
       iMeshUnitPayload(0, std::vector<uint8_t>(buffer.data(), buffer.data() + buffer.size()));
   expectUnitsRow("I14", units);
+}
+
+CATALOGUE_TEST(I15) {
+  // Draco would size the attribute's values as points x components x type size.
+  std::vector<Unit> units = baseUnits();
+  units[2].payload = iMeshUnitPayload(0, dracoWithDescriptor(dracoPayload(), 1, 5, 255));
+  expectUnitsRow("I15", units);
+  units[2].payload = iMeshUnitPayload(0, dracoWithDescriptor(dracoPayload(), 1, 10, 3));
+  expectUnitsRow("I15", units);
+}
+
+CATALOGUE_TEST(I16) {
+  std::vector<Unit> units = baseUnits();
+  units[2].payload = iMeshUnitPayload(0, dracoWithDescriptor(dracoPayload(), 100, 5, 3));
+  expectUnitsRow("I16", units);
 }
 
 // ---- P mesh ----

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -243,6 +244,26 @@ TEST(Memory, TexturedLongGomKeepsFewFrames) {
   // The stream ends where the texture units belong: the geometry decoded within the bound.
   EXPECT_NE(outcome.find("error: "), std::string::npos) << outcome;
   EXPECT_NE(outcome.find("expected a TEXTURE unit"), std::string::npos) << outcome;
+}
+
+// Issue 18, item 2: a Draco attribute descriptor declaring 255 float64 components made Draco
+// allocate points x 255 x 8 bytes before it found the payload too short: here 184 MB for a
+// 90,000-vertex sheet. Now refused from the descriptor (errors.md I15).
+TEST(Memory, DracoComponentsAreRefusedWithinTheBound) {
+  SKIP_UNDER_ASAN();
+  std::vector<Unit> units = texturedSheetUnits(300, 2, 0, 16);
+  IMeshUnit im = parse<IMeshUnit>(units[2]);
+  const uint8_t descriptor[] = {1, 0, 5, 3, 0};  // 1 attribute: POSITION, int32, 3 components
+  auto at = std::search(im.im_draco_payload.begin() + 12, im.im_draco_payload.end(),
+                        std::begin(descriptor), std::end(descriptor));
+  ASSERT_NE(at, im.im_draco_payload.end());
+  at[2] = 10;  // float64
+  at[3] = 255;
+  units[2].payload = serialise(im);
+  const std::vector<uint8_t> stream = join(units);
+  keep(stream, "draco-components");
+  const std::string outcome = decodeWithinBound(stream);
+  EXPECT_NE(outcome.find("255 components"), std::string::npos) << outcome;
 }
 
 // Issue 18, item 3: the camera's image size, not the texture box or the unit's bytes, set the
