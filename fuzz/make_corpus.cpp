@@ -2,7 +2,8 @@
 // per target (OUT_DIR/stream, units, imesh, pmesh, cfg, obj), from files in the source tree:
 //
 //   stream, units  every conformance stream (conformance/streams/*.3dvo), as it is
-//   imesh          every I-mesh unit's im_draco_payload of those streams
+//   imesh, draco   every I-mesh unit's im_draco_payload of those streams
+//   texture        the conformance streams with cameras, fuzz/seeds/texture/*
 //   pmesh          every P-mesh unit's pm_cabac_payload, behind the 4-byte header that
 //                  pmesh_fuzz.cpp reads (mode, quant step, octree depth of the unit's GOM)
 //   cfg            cfg/**/*.cfg, conformance/cfg/*.cfg, fuzz/seeds/cfg/*
@@ -77,8 +78,13 @@ int extractPayloads(const fs::path& streamPath, const fs::path& out) {
     const std::string name = stem + "-unit" + std::to_string(unit.index);
     if (unit.type == static_cast<uint8_t>(UnitType::kGomHeader)) {
       gh = parseUnit<GomHeader>(unit);
+    } else if (unit.type == static_cast<uint8_t>(UnitType::kSequenceHeader)) {
+      if (!parseUnit<SequenceHeader>(unit).cameras.empty())
+        copyTo(streamPath, out / "texture", streamPath.filename().string());
     } else if (unit.type == static_cast<uint8_t>(UnitType::kIMesh)) {
-      write(out / "imesh" / (name + ".draco"), parseUnit<IMeshUnit>(unit).im_draco_payload);
+      const IMeshUnit im = parseUnit<IMeshUnit>(unit);
+      write(out / "imesh" / (name + ".draco"), im.im_draco_payload);
+      write(out / "draco" / (name + ".draco"), im.im_draco_payload);
       ++written;
     } else if (unit.type == static_cast<uint8_t>(UnitType::kPMesh)) {
       const PMeshUnit pm = parseUnit<PMeshUnit>(unit);
@@ -101,8 +107,8 @@ int main(int argc, char** argv) {
   return runApp("fuzz_make_corpus", [&]() {
     check(argc == 3, "usage: fuzz_make_corpus SOURCE_DIR OUT_DIR");
     const fs::path source = argv[1], out = argv[2];
-    for (const char* target :
-         {"stream", "units", "imesh", "pmesh", "cfg", "obj", "dataset", "png"}) {
+    for (const char* target : {"stream", "units", "imesh", "draco", "texture", "pmesh", "cfg",
+                               "obj", "dataset", "png"}) {
       std::error_code ec;
       fs::remove_all(out / target, ec);
       makeDirectories((out / target).string());
@@ -143,6 +149,8 @@ int main(int argc, char** argv) {
       copyTo(f, out / "obj", "seed_" + f.filename().string());
       ++objs;
     }
+    for (const fs::path& f : filesIn(source / "fuzz/seeds/texture", "", false))
+      copyTo(f, out / "texture", "seed_" + f.filename().string());
     int datasets = 0;
     for (const fs::path& f : filesIn(source / "fuzz/seeds/dataset", "", false)) {
       copyTo(f, out / "dataset", f.filename().string());

@@ -16,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <new>
 #include <string>
 #include <vector>
@@ -23,6 +24,7 @@
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
 #include "common/error.h"
+#include "decoder/imesh_decoder.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/h264_encoder.h"
 #include "encoder/sequence_encoder.h"
@@ -60,10 +62,10 @@ void keep(const std::vector<uint8_t>& stream, const std::string& name) {
     test::writeBytes(std::string(folder) + "/" + name + ".3dvo", stream);
 }
 
-// Decodes `stream` (library level, every callback a no-op) in a child process limited to the
-// bound, and returns what happened: "ok", "error: <message>", "out of memory", or how the
-// child ended otherwise.
-std::string decodeWithinBound(const std::vector<uint8_t>& stream) {
+// Runs `work` in a child process limited to the bound for an input of `inputBytes` bytes, and
+// returns what happened: "ok", "error: <message>" (tdvo::Error), "out of memory"
+// (std::bad_alloc), or how the child ended otherwise.
+std::string runWithinBound(size_t inputBytes, const std::function<void()>& work) {
   int fds[2];
   if (pipe(fds) != 0) return "pipe failed";
   std::fflush(nullptr);
@@ -71,7 +73,7 @@ std::string decodeWithinBound(const std::vector<uint8_t>& stream) {
   if (pid == 0) {
     close(fds[0]);
     std::string outcome;
-    const uint64_t limit = addressSpaceNow() + kFixedBytes + kBytesPerStreamByte * stream.size();
+    const uint64_t limit = addressSpaceNow() + kFixedBytes + kBytesPerStreamByte * inputBytes;
     rlimit rl;
     getrlimit(RLIMIT_AS, &rl);
     rl.rlim_cur = limit;
@@ -79,9 +81,7 @@ std::string decodeWithinBound(const std::vector<uint8_t>& stream) {
       outcome = "setrlimit failed";
     } else {
       try {
-        StreamDecoder decoder(stream.data(), stream.size(), "x.3dvo");
-        decoder.decode([](int, const IntMesh&) {},
-                       [](int, int, const YuvPicture&, const Image&) {});
+        work();
         outcome = "ok";
       } catch (const Error& e) {
         outcome = std::string("error: ") + e.what();
@@ -105,6 +105,14 @@ std::string decodeWithinBound(const std::vector<uint8_t>& stream) {
   waitpid(pid, &status, 0);
   if (WIFSIGNALED(status)) return "killed by signal " + std::to_string(WTERMSIG(status));
   return outcome;
+}
+
+// Decodes `stream` (library level, every callback a no-op) within the bound.
+std::string decodeWithinBound(const std::vector<uint8_t>& stream) {
+  return runWithinBound(stream.size(), [&] {
+    StreamDecoder decoder(stream.data(), stream.size(), "x.3dvo");
+    decoder.decode([](int, const IntMesh&) {}, [](int, int, const YuvPicture&, const Image&) {});
+  });
 }
 
 #ifdef TDVO_ASAN
@@ -212,23 +220,36 @@ TEST(Memory, ConformanceStreamsDecodeWithinTheBound) {
   EXPECT_GE(streams, 11);
 }
 
-// The stream fuzz target's regression inputs (CRCs repaired as the target does): refused or
-// decoded, never beyond the bound.
-TEST(Memory, FuzzRegressionsStayWithinTheBound) {
+// The fuzz targets' committed inputs that reach the decoder: the seeds of fuzz/seeds/texture
+// and the regression inputs of fuzz/regressions/{stream,units,imesh} (streams also with their
+// CRCs repaired, as the stream target does; Draco payloads through decodeIMesh). The generated
+// seed corpora are the conformance streams and their payloads (the test above). Each is
+// refused or decoded, never beyond the bound.
+TEST(Memory, FuzzInputsStayWithinTheBound) {
   SKIP_UNDER_ASAN();
-  for (const char* target : {"stream", "units"}) {
-    const std::filesystem::path folder =
-        std::string(TDVO_SOURCE_DIR) + "/fuzz/regressions/" + target;
-    if (!std::filesystem::exists(folder)) continue;
+  const std::string fuzz = std::string(TDVO_SOURCE_DIR) + "/fuzz/";
+  int inputs = 0;
+  auto each = [&](const std::string& folder,
+                  const std::function<void(const std::vector<uint8_t>&)>& run) {
+    if (!std::filesystem::exists(folder)) return;
     for (const auto& entry : std::filesystem::directory_iterator(folder)) {
       SCOPED_TRACE(entry.path().string());
-      const std::vector<uint8_t> raw = fileBytes(entry.path());
-      for (const std::vector<uint8_t>& input : {raw, fuzz::withValidCrcs(raw.data(), raw.size())}) {
-        const std::string outcome = decodeWithinBound(input);
-        EXPECT_TRUE(outcome == "ok" || outcome.rfind("error: ", 0) == 0) << outcome;
-      }
+      run(fileBytes(entry.path()));
+      ++inputs;
     }
-  }
+  };
+  auto expectBounded = [](const std::string& outcome) {
+    EXPECT_TRUE(outcome == "ok" || outcome.rfind("error: ", 0) == 0) << outcome;
+  };
+  for (const char* folder : {"seeds/texture", "regressions/stream", "regressions/units"})
+    each(fuzz + folder, [&](const std::vector<uint8_t>& raw) {
+      expectBounded(decodeWithinBound(raw));
+      expectBounded(decodeWithinBound(fuzz::withValidCrcs(raw.data(), raw.size())));
+    });
+  each(fuzz + "regressions/imesh", [&](const std::vector<uint8_t>& payload) {
+    expectBounded(runWithinBound(payload.size(), [&] { decodeIMesh(payload, 20, "x.draco"); }));
+  });
+  EXPECT_GE(inputs, 5);
 }
 
 // Issue 18, item 1: with cameras, the decoder kept every frame of a GOM (dequantised) until its
