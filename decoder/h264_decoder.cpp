@@ -37,6 +37,10 @@ YuvPicture H264Decoder::decode(const std::vector<uint8_t>& accessUnit, int width
   if (av_new_packet(packet_, static_cast<int>(accessUnit.size())) < 0)
     throw Error("FFmpeg: out of memory");
   std::memcpy(packet_->data, accessUnit.data(), accessUnit.size());
+  // FFmpeg sizes its pictures and tables from the access unit's SPS, which may declare far more
+  // than the texture box: a picture larger than the box is refused before FFmpeg allocates it
+  // (with room for FFmpeg's alignment of its buffers: 96 x 80 pictures are checked as 128 x 80).
+  codec_->max_pixels = (static_cast<int64_t>(width) + 128) * (static_cast<int64_t>(height) + 128);
   if (avcodec_send_packet(codec_, packet_) < 0)
     throw Error(context_ + ": the H.264 decoder rejects the access unit");
   const int got = avcodec_receive_frame(codec_, frame_);
@@ -44,8 +48,7 @@ YuvPicture H264Decoder::decode(const std::vector<uint8_t>& accessUnit, int width
   if (frame_->format != AV_PIX_FMT_YUV420P || frame_->width != width || frame_->height != height)
     throw Error(context_ + ": H.264 picture is " + std::to_string(frame_->width) + "x" +
                 std::to_string(frame_->height) + " (format " + std::to_string(frame_->format) +
-                "), expected " + std::to_string(width) + "x" + std::to_string(height) +
-                " 4:2:0");
+                "), expected " + std::to_string(width) + "x" + std::to_string(height) + " 4:2:0");
   YuvPicture out(width, height);
   auto copyPlane = [&](int plane, std::vector<uint8_t>& dst, int w, int h) {
     for (int row = 0; row < h; ++row)

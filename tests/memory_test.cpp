@@ -47,12 +47,18 @@ namespace {
 constexpr uint64_t kFixedBytes = uint64_t{64} << 20;  // 64 MiB
 constexpr uint64_t kBytesPerStreamByte = 64;
 
-uint64_t addressSpaceNow() {
+// A "Vm...:" field of /proc/self/status, in bytes.
+uint64_t statusBytes(const char* field) {
   std::ifstream status("/proc/self/status");
   std::string line;
+  const size_t n = std::strlen(field);
   while (std::getline(status, line))
-    if (line.rfind("VmSize:", 0) == 0) return std::stoull(line.substr(7)) * 1024;  // kB
+    if (line.compare(0, n, field) == 0) return std::stoull(line.substr(n)) * 1024;  // kB
   return 0;
+}
+
+uint64_t addressSpaceNow() {
+  return statusBytes("VmSize:");
 }
 
 // With TDVO_MEMORY_TEST_STREAMS=FOLDER, each crafted stream is also written there as NAME.3dvo,
@@ -105,6 +111,45 @@ std::string runWithinBound(size_t inputBytes, const std::function<void()>& work)
   waitpid(pid, &status, 0);
   if (WIFSIGNALED(status)) return "killed by signal " + std::to_string(WTERMSIG(status));
   return outcome;
+}
+
+// Decodes `stream` in a child process without a limit and returns its outcome followed by
+// " +N MiB": how far its peak resident memory rose above its resident memory at the start.
+// For cases where a failed allocation inside a library would look like any other rejection
+// (FFmpeg turns ENOMEM into an error code): the rise itself is what the test checks.
+std::string decodeMeasured(const std::vector<uint8_t>& stream, uint64_t& rise) {
+  int fds[2];
+  if (pipe(fds) != 0) return "pipe failed";
+  std::fflush(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    const uint64_t before = statusBytes("VmRSS:");
+    std::string outcome = "ok";
+    try {
+      StreamDecoder decoder(stream.data(), stream.size(), "x.3dvo");
+      decoder.decode([](int, const IntMesh&) {}, [](int, int, const YuvPicture&, const Image&) {});
+    } catch (const Error& e) {
+      outcome = std::string("error: ") + e.what();
+    }
+    const uint64_t peak = statusBytes("VmHWM:");
+    outcome = std::to_string(peak > before ? peak - before : 0) + " " + outcome;
+    const ssize_t written = write(fds[1], outcome.data(), outcome.size());
+    _exit(written == static_cast<ssize_t>(outcome.size()) ? 0 : 1);
+  }
+  close(fds[1]);
+  std::string outcome;
+  char buffer[4096];
+  ssize_t n;
+  while ((n = read(fds[0], buffer, sizeof buffer)) > 0)
+    outcome.append(buffer, static_cast<size_t>(n));
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (WIFSIGNALED(status)) return "killed by signal " + std::to_string(WTERMSIG(status));
+  const size_t space = outcome.find(' ');
+  rise = std::stoull(outcome.substr(0, space));
+  return outcome.substr(space + 1);
 }
 
 // Decodes `stream` (library level, every callback a no-op) within the bound.
@@ -162,7 +207,7 @@ std::vector<uint8_t> fileBytes(const std::filesystem::path& path) {
 // bytes. The texture units of the first `textureUnits` frames follow (camera 0 only: a flat
 // grey picture of the 16 x 16 texture box, IDR first).
 std::vector<Unit> texturedSheetUnits(int n, uint16_t gomFrames, int cameras, uint16_t size,
-                                     int textureUnits = 0) {
+                                     int textureUnits = 0, int pictureSize = 16) {
   Mesh sheet = test::waveSheet(n, n, 1)[0];
   for (Vec3d& p : sheet.positions)
     p[2] = 0;
@@ -196,12 +241,13 @@ std::vector<Unit> texturedSheetUnits(int n, uint16_t gomFrames, int cameras, uin
   pm.pm_frame = gomFrames - 1u;
   units[3].payload = serialise(pm);
   H264Settings settings;
-  settings.width = settings.height = 16;
+  settings.width = settings.height = pictureSize;
+  settings.preset = "ultrafast";
   H264Encoder encoder(settings);
   for (int f = 0; f < textureUnits; ++f) {
     TextureUnit tx;
     tx.tx_frame = static_cast<uint32_t>(f);
-    tx.tx_access_unit = encoder.encode(YuvPicture(16, 16), f == 0);
+    tx.tx_access_unit = encoder.encode(YuvPicture(pictureSize, pictureSize), f == 0);
     units.push_back({static_cast<uint8_t>(UnitType::kTexture), serialise(tx)});
   }
   return units;
@@ -297,6 +343,23 @@ TEST(Memory, HugeCameraIsRefusedWithinTheBound) {
   keep(stream, "huge-camera");
   const std::string outcome = decodeWithinBound(stream);
   EXPECT_NE(outcome.find("frames need more memory than"), std::string::npos) << outcome;
+}
+
+// A relative of item 3: the access unit's SPS, not the texture box, sized FFmpeg's pictures and
+// tables. An 8192 x 8192 IDR picture (about 20 KB) for a 16 x 16 box made FFmpeg allocate
+// 8192 x 8192 pictures before the decoder found the size wrong; now FFmpeg refuses a picture
+// larger than the box (AVCodecContext::max_pixels) before allocating it. Measured as the rise
+// of the resident size (no address-space limit: FFmpeg reports a failed allocation as an error
+// code, which would look like the refusal).
+TEST(Memory, OversizedH264PictureIsRefusedBeforeFfmpegAllocatesIt) {
+  SKIP_UNDER_ASAN();
+  const std::vector<uint8_t> stream = join(texturedSheetUnits(10, 2, 1, 16, 1, 8192));
+  keep(stream, "oversized-h264-sps");
+  uint64_t rise = 0;
+  const std::string outcome = decodeMeasured(stream, rise);
+  EXPECT_EQ(outcome.rfind("error: ", 0), 0u) << outcome;
+  EXPECT_LE(rise, kFixedBytes + kBytesPerStreamByte * stream.size())
+      << outcome << " (" << stream.size() << "-byte stream)";
 }
 
 }  // namespace
