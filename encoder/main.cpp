@@ -14,6 +14,7 @@
 #include "common/progress.h"
 #include "common/sequence.h"
 #include "common/yuv.h"
+#include "encoder/input_frames.h"
 #include "encoder/sequence_encoder.h"
 #include "encoder/texture_encoder.h"
 
@@ -35,18 +36,23 @@ int main(int argc, char** argv) {
     // frames when it codes that GOM, so memory is bounded by a few GOMs, not by the sequence.
     FrameSource source;
     Dataset dataset;
-    if (!params.dataset.empty()) dataset = readDataset(params.dataset);
-    source.count = static_cast<size_t>(params.frameCount);
-    if (!params.inputMeshPattern.empty()) {
-      source.name = [&params](size_t k) {
-        return framePath(params.inputMeshPattern, params.firstFrame + static_cast<int>(k));
-      };
-    } else {
-      checkDatasetMeshes(dataset, params.firstFrame, params.frameCount);
-      source.name = [&params, &dataset](size_t k) {
-        return dataset.framePath(dataset.meshes, params.firstFrame + static_cast<int>(k));
-      };
+    const Dataset* input = nullptr;  // the dataset, when given
+    if (!params.dataset.empty()) {
+      dataset = readDataset(params.dataset);
+      input = &dataset;
+      // Frame numbers are the dataset's (frames.first + index): start at its first frame.
+      if (!table.wasSet("FirstFrame")) params.firstFrame = dataset.firstFrame;
     }
+    // FrameCount not set: every frame from FirstFrame until the first missing file.
+    std::string found;
+    params.frameCount = resolveFrameCount(params, input, &found);
+    if (!found.empty()) std::printf("# input frames: %s\n", found.c_str());
+    if (input) checkTextureFrames(params, dataset, params.frameCount);
+    if (!params.gomListFile.empty()) params.goms(static_cast<size_t>(params.frameCount));
+    source.count = static_cast<size_t>(params.frameCount);
+    source.name = [&params, input](size_t k) {
+      return inputMeshPath(params, input, params.firstFrame + static_cast<int>(k));
+    };
     source.read = [&source](size_t k) { return readObj(source.name(k)); };
     std::optional<TextureBoxFinder> boxes;
     if (!params.dataset.empty()) boxes.emplace(params, dataset, source.count);
@@ -68,15 +74,18 @@ int main(int argc, char** argv) {
       coded = encodeSequence(
           params, grid, source,
           [&](int frame, const IntMesh& recon) {
-            std::printf("%s\n", geometryHashLine(frame, recon).c_str());
+            // MD5 lines and files carry the input's frame numbers (sh_first_frame + frame).
+            const int number = params.firstFrame + frame;
+            std::printf("%s\n", geometryHashLine(number, recon).c_str());
             if (!params.reconMeshPattern.empty())
-              outputs.write(framePath(params.reconMeshPattern, frame),
+              outputs.write(framePath(params.reconMeshPattern, number),
                             formatObj(grid.dequantise(recon)));
             progress.tick(frame + 1);
           },
           textures.get(),
           [&](int frame, int camera, const YuvPicture& picture, const Image&) {
-            std::printf("%s\n", textureHashLine(frame, camera, picture).c_str());
+            std::printf("%s\n",
+                        textureHashLine(params.firstFrame + frame, camera, picture).c_str());
           });
     }
     outputs.write(params.bitstreamFile, coded.stream.data(), coded.stream.size());

@@ -160,8 +160,8 @@ void putF64(std::vector<uint8_t>& p, size_t at, double v) {
 }
 
 // Byte offsets of fields in the payloads (docs/bitstream.md, sections 2 and 3).
-constexpr size_t kShVersion = 0, kShFrameCount = 2, kShFrameRate = 6, kShGridBits = 14,
-                 kShOrigin = 15, kShStep = 39;
+constexpr size_t kShVersion = 0, kShFirstFrame = 2, kShFrameCount = 6, kShFrameRate = 10,
+                 kShGridBits = 18, kShOrigin = 19, kShStep = 43;
 constexpr size_t kGhFirstFrame = 0, kGhFrameCount = 4, kGhMode = 6, kGhQuantStep = 7, kGhDepth = 9,
                  kGhNumKeyframes = 10, kGhDelta = 12;
 
@@ -533,7 +533,7 @@ CATALOGUE_TEST(S12) {
 // ---- Sequence header ----
 
 CATALOGUE_TEST(H01) {
-  for (uint16_t version : {uint16_t{0}, uint16_t{2}, uint16_t{65535}}) {
+  for (uint16_t version : {uint16_t{0}, uint16_t{1}, uint16_t{65535}}) {
     std::vector<Unit> units = baseUnits();
     putU16(units[0].payload, kShVersion, version);
     expectUnitsRow("H01", units);
@@ -600,6 +600,12 @@ CATALOGUE_TEST(H10) {
   std::vector<Unit> units = baseUnits();
   units[0].payload.push_back(0);
   expectUnitsRow("H10", units);
+}
+
+CATALOGUE_TEST(H11) {
+  std::vector<Unit> units = baseUnits();
+  putU32(units[0].payload, kShFirstFrame, 1000000001);
+  expectUnitsRow("H11", units);
 }
 
 // ---- GOM header ----
@@ -917,6 +923,16 @@ CATALOGUE_TEST(D05) {
   expectRow("D05", "3dvo-dec", {"-i", "x.3dvo", "-o", "file/out"});
 }
 
+CATALOGUE_TEST(D06) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  expectRow("D06", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--FirstFrame=6"});
+}
+
+CATALOGUE_TEST(D07) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  expectRow("D07", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--FirstFrame=4", "--FrameCount=3"});
+}
+
 // ---- OBJ input (3dvo-enc) ----
 
 const std::string kTriangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
@@ -1148,6 +1164,21 @@ CATALOGUE_TEST(C29) {
     test::writeText(dir_.file("goms.txt"), text);
     expectCfgRow("C29", "GOMListFile : goms.txt\n");
   }
+}
+
+CATALOGUE_TEST(C30) {
+  // FrameCount not set and not even the first frame's file: nothing to code.
+  expectRow("C30", "3dvo-enc",
+            {"--InputMeshPattern=in/%03d.obj", "--GridBits=10", "-o", "out/x.3dvo"});
+}
+
+CATALOGUE_TEST(C31) {
+  // Geometry frame 6 with the textures of a dataset of frames 0 .. 5.
+  writeInput("", 7);
+  expectRow("C31", "3dvo-enc",
+            {"--InputMeshPattern=in/%03d.obj", "--FirstFrame=6", "--FrameCount=1",
+             "--Dataset=" + std::string(TDVO_SOURCE_DIR) + "/conformance/inputs/rig",
+             "--GridBits=10", "-o", "out/x.3dvo"});
 }
 
 // ---- Calibration (dataset.json) and images (3dvo-import) ----
