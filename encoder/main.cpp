@@ -48,6 +48,20 @@ int main(int argc, char** argv) {
     params.frameCount = resolveFrameCount(params, input, &found);
     if (!found.empty()) std::printf("# input frames: %s\n", found.c_str());
     if (input) checkTextureFrames(params, dataset, params.frameCount);
+    if (input) {
+      // What of the dataset the stream does not carry, said rather than dropped silently
+      // (docs/bitstream.md, section 2): the decoded dataset has the decoded files instead.
+      int masks = 0, backgrounds = 0;
+      for (const DatasetCamera& c : dataset.cameras) {
+        masks += !c.masks.empty() || c.alphaMask;
+        backgrounds += !c.background.empty() || !c.backgroundVideo.empty();
+      }
+      if (masks + backgrounds > 0)
+        std::printf(
+            "# dataset fields not coded: masks of %d and backgrounds of %d cameras (the "
+            "decoded images carry the decoded shape as alpha)\n",
+            masks, backgrounds);
+    }
     if (!params.gomListFile.empty()) params.goms(static_cast<size_t>(params.frameCount));
     source.count = static_cast<size_t>(params.frameCount);
     source.name = [&params, input](size_t k) {
