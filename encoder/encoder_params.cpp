@@ -19,7 +19,9 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.add("FrameCount", frameCount, 0, static_cast<int>(kMaxFrames),
         "number of frames to code; 0 = every consecutive frame from FirstFrame until the "
         "first missing input file (or the dataset's last frame)");
-  t.add("FrameRate", frameRate, 0.001, 1000, "frames per second (rate figures, stream header)");
+  t.add("FrameRate", frameRate, 0.001, 1000,
+        "frames per second (rate figures, stream header); not set: the Dataset's frames.rate, "
+        "else 25");
   t.section("Geometry");
   t.add("GridBits", gridBits, 8, 20,
         "bits per coordinate of the integer grid spanning the sequence's bounding box");

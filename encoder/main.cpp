@@ -42,6 +42,13 @@ int main(int argc, char** argv) {
       input = &dataset;
       // Frame numbers are the dataset's (frames.first + index): start at its first frame.
       if (!table.wasSet("FirstFrame")) params.firstFrame = dataset.firstFrame;
+      // ... and its frame rate, which the stream carries to the decoded dataset.
+      if (!table.wasSet("FrameRate")) {
+        check(dataset.frameRate >= 0.001 && dataset.frameRate <= 1000,
+              dataset.resolve(kDatasetFileName) +
+                  ": frames.rate is outside FrameRate's range 0.001 .. 1000; set FrameRate");
+        params.frameRate = dataset.frameRate;
+      }
     }
     // FrameCount not set: every frame from FirstFrame until the first missing file.
     std::string found;

@@ -411,6 +411,19 @@ class ErrorsTest : public testing::Test {
     expectRow(id, "3dvo-enc", args);
   }
 
+  // A copy of the conformance rig in rig/ with `from` replaced by `to` in its dataset.json,
+  // coded (one frame, textures) against row `id`.
+  void expectRigRow(const std::string& id, const std::string& from, const std::string& to) {
+    const std::string rig = dir_.file("rig");
+    std::filesystem::copy(std::string(TDVO_SOURCE_DIR) + "/conformance/inputs/rig", rig,
+                          std::filesystem::copy_options::recursive);
+    std::string json = test::readText(rig + "/dataset.json");
+    ASSERT_NE(json.find(from), std::string::npos);
+    json.replace(json.find(from), from.size(), to);
+    test::writeText(rig + "/dataset.json", json);
+    expectRow(id, "3dvo-enc", {"--Dataset=rig", "--FrameCount=1", "-o", "out/x.3dvo"});
+  }
+
   TempDir dir_{"errors"};
 };
 
@@ -1179,6 +1192,19 @@ CATALOGUE_TEST(C31) {
             {"--InputMeshPattern=in/%03d.obj", "--FirstFrame=6", "--FrameCount=1",
              "--Dataset=" + std::string(TDVO_SOURCE_DIR) + "/conformance/inputs/rig",
              "--GridBits=10", "-o", "out/x.3dvo"});
+}
+
+CATALOGUE_TEST(C32) {
+  // A dataset at 2000 frames per second, more than a stream carries, and no FrameRate.
+  expectRigRow("C32", "\"rate\": 25.0", "\"rate\": 2000");
+}
+
+CATALOGUE_TEST(C33) {
+  expectRigRow("C33", "\"description\": \"", "\"description\": \"" + std::string(4097, 'x'));
+}
+
+CATALOGUE_TEST(C34) {
+  expectRigRow("C34", "\"name\": \"cam01\"", "\"name\": \"" + std::string(256, 'c') + "\"");
 }
 
 // ---- Calibration (dataset.json) and images (3dvo-import) ----

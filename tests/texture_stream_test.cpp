@@ -172,6 +172,7 @@ TEST_F(TextureApps, DecodedDatasetIsTheInputDatasetWithTheDecodedFiles) {
   input.description = "a \"quoted\" description, caf\xC3\xA9";
   input.cameras[1].camera.name = "left camera";
   input.up = Vec3d{0.0, 0.0, -1.0};
+  input.frameRate = 29.97;  // FrameRate not set: the dataset's
   writeDataset(input, rig);
   input = readDataset(rig);
   const auto e = encode({"--Dataset=" + rig, "--FrameCount=4", "--FirstFrame=1"}, "s.3dvo");
