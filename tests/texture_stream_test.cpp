@@ -208,6 +208,24 @@ TEST_F(TextureApps, DecodedDatasetIsTheInputDatasetWithTheDecodedFiles) {
   EXPECT_FALSE(fs::exists(dir.file("out/0000.obj")));
 }
 
+// Tools that read decoded folders follow the frame numbers: the player export of a stream
+// coded from frame 1 (GOMs at frames 1 and 3) seeks to its exported frames 0 and 2.
+TEST_F(TextureApps, PlayerExportReadsTheDecodedGomStartsAsFrameNumbers) {
+  const auto e = encode({"--FirstFrame=1", "--FrameCount=4", "--GOMSize=2"}, "s.3dvo");
+  ASSERT_EQ(e.exitCode, 0) << e.err;
+  ASSERT_EQ(test::run(dir, kBin + "/3dvo-dec", {"-i", "s.3dvo", "-o", "out"}).exitCode, 0);
+  const auto r =
+      test::run(dir, kBin + "/3dvo-render", {"-i", "out", "--Mode=export", "-o", "player"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::string scene = test::readText(dir.file("player/scene.json"));
+  const size_t at = scene.find("\"gomStarts\"");
+  ASSERT_NE(at, std::string::npos) << scene;
+  std::string starts;
+  for (size_t i = scene.find('[', at); i < scene.size() && scene[i] != ']'; ++i)
+    if (scene[i] != ' ' && scene[i] != '\n') starts += scene[i];
+  EXPECT_EQ(starts, "[0,2");
+}
+
 // Issue 17.5: geometry and texture frames are tied by frame number. A dataset holding the rig's
 // frames 2 .. 4 under their own numbers (frames.first 2, the same files) codes to the same stream
 // as the rig's frames 2 .. 4 picked by FirstFrame, and with no FirstFrame or FrameCount it
