@@ -147,7 +147,7 @@ int main(int argc, char** argv) {
     table.add("RenumberFrames", renumber,
               "number the output frames from 0 (files, gom_starts.txt, dataset.json) instead "
               "of with the input's frame numbers; the MD5 lines keep the input's numbers");
-    table.add("FirstFrame", firstFrame, 0, static_cast<int>(kMaxFirstFrame),
+    table.add("FirstFrame", firstFrame, 0, static_cast<int>(kMaxFirstFrame + kMaxFrames - 1),
               "decode from this input frame number on (not set: the stream's first frame); "
               "decoding starts at the GOM holding it, output starts at it");
     table.add("FrameCount", frameCount, 0, static_cast<int>(kMaxFrames),
