@@ -226,6 +226,25 @@ TEST_F(TextureApps, PlayerExportReadsTheDecodedGomStartsAsFrameNumbers) {
   EXPECT_EQ(starts, "[0,2");
 }
 
+// Issue 17.8: a decoder frame range with textures starts at the GOM's IDR pictures (GOMs at
+// 0, 2, 4: frames 3 .. 4 decode from the GOM at 2) and gives the encoder's pictures.
+TEST_F(TextureApps, DecoderFrameRangeDecodesTexturesFromTheGomStart) {
+  const auto e = encode({"--GOMSize=2"}, "s.3dvo");
+  ASSERT_EQ(e.exitCode, 0) << e.err;
+  test::writeText(dir.file("enc.log"), e.out);
+  const auto d = test::run(dir, kBin + "/3dvo-dec",
+                           {"-i", "s.3dvo", "-o", "out", "--FirstFrame=3", "--FrameCount=2",
+                            "--verify", "enc.log", "--Threads=2"});
+  ASSERT_EQ(d.exitCode, 0) << d.err;
+  EXPECT_EQ(textureLines(d.out).size(), 2u * 3u);
+  EXPECT_TRUE(fs::exists(dir.file("out/cam2/0004.png")));
+  EXPECT_FALSE(fs::exists(dir.file("out/cam2/0002.png")));
+  const Dataset decoded = readDataset(dir.file("out"));
+  EXPECT_EQ(decoded.firstFrame, 3);
+  EXPECT_EQ(decoded.frameCount, 2);
+  EXPECT_NO_THROW(validateDatasetFiles(decoded));
+}
+
 // Issue 17.5: geometry and texture frames are tied by frame number. A dataset holding the rig's
 // frames 2 .. 4 under their own numbers (frames.first 2, the same files) codes to the same stream
 // as the rig's frames 2 .. 4 picked by FirstFrame, and with no FirstFrame or FrameCount it
