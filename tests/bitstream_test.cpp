@@ -729,7 +729,7 @@ TEST(Syntax, SequenceHeaderCarriesTheDatasetFields) {
   same.cameras[1].cam_name = same.cameras[0].cam_name;
   EXPECT_THROW(write(same), std::logic_error);
   for (const std::string& text : {std::string("a\xFF"), std::string("a\0b", 3),
-                                 std::string("\xC0\x80"), std::string("\xED\xA0\x80")}) {
+                                  std::string("\xC0\x80"), std::string("\xED\xA0\x80")}) {
     SequenceHeader invalid = sh;
     invalid.sh_description = text;
     EXPECT_THROW(write(invalid), std::logic_error);
