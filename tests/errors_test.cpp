@@ -936,9 +936,9 @@ CATALOGUE_TEST(D05) {
   expectRow("D05", "3dvo-dec", {"-i", "x.3dvo", "-o", "file/out"});
 }
 
-CATALOGUE_TEST(D06) {
+CATALOGUE_TEST(D08) {
   test::writeBytes(dir_.file("x.3dvo"), baseStream());
-  expectRow("D06", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--FirstFrame=6"});
+  expectRow("D08", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--FirstFrame=6"});
 }
 
 CATALOGUE_TEST(D07) {
@@ -1179,9 +1179,9 @@ CATALOGUE_TEST(C29) {
   }
 }
 
-CATALOGUE_TEST(C30) {
+CATALOGUE_TEST(C35) {
   // FrameCount not set and not even the first frame's file: nothing to code.
-  expectRow("C30", "3dvo-enc",
+  expectRow("C35", "3dvo-enc",
             {"--InputMeshPattern=in/%03d.obj", "--GridBits=10", "-o", "out/x.3dvo"});
 }
 
