@@ -10,6 +10,7 @@ namespace tdvo {
 
 inline CameraParameters toParameters(const Camera& camera, const TextureBox& box) {
   CameraParameters c;
+  c.cam_name = camera.name;
   c.cam_width = static_cast<uint16_t>(camera.width);
   c.cam_height = static_cast<uint16_t>(camera.height);
   c.cam_fx = camera.fx;
@@ -22,8 +23,10 @@ inline CameraParameters toParameters(const Camera& camera, const TextureBox& box
   c.cam_p2 = camera.distortion.p2;
   c.cam_k3 = camera.distortion.k3;
   for (int r = 0; r < 3; ++r)
-    for (int k = 0; k < 3; ++k) c.cam_rotation[3 * r + k] = camera.R[r][k];
-  for (int k = 0; k < 3; ++k) c.cam_translation[k] = camera.t[k];
+    for (int k = 0; k < 3; ++k)
+      c.cam_rotation[3 * r + k] = camera.R[r][k];
+  for (int k = 0; k < 3; ++k)
+    c.cam_translation[k] = camera.t[k];
   c.tx_box_x = static_cast<uint16_t>(box.x);
   c.tx_box_y = static_cast<uint16_t>(box.y);
   c.tx_box_width = static_cast<uint16_t>(box.width);
@@ -31,9 +34,10 @@ inline CameraParameters toParameters(const Camera& camera, const TextureBox& box
   return c;
 }
 
+// `index` names a camera without a name ("cam<index>"; every stream camera has one).
 inline Camera toCamera(const CameraParameters& c, int index) {
   Camera camera;
-  camera.name = "cam" + std::to_string(index);
+  camera.name = c.cam_name.empty() ? "cam" + std::to_string(index) : c.cam_name;
   camera.width = c.cam_width;
   camera.height = c.cam_height;
   camera.fx = c.cam_fx;
@@ -42,8 +46,10 @@ inline Camera toCamera(const CameraParameters& c, int index) {
   camera.cy = c.cam_cy;
   camera.distortion = {c.cam_k1, c.cam_k2, c.cam_p1, c.cam_p2, c.cam_k3};
   for (int r = 0; r < 3; ++r)
-    for (int k = 0; k < 3; ++k) camera.R[r][k] = c.cam_rotation[3 * r + k];
-  for (int k = 0; k < 3; ++k) camera.t[k] = c.cam_translation[k];
+    for (int k = 0; k < 3; ++k)
+      camera.R[r][k] = c.cam_rotation[3 * r + k];
+  for (int k = 0; k < 3; ++k)
+    camera.t[k] = c.cam_translation[k];
   return camera;
 }
 

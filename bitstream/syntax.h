@@ -4,8 +4,10 @@
 // the decoder.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "bitstream/byte_io.h"
@@ -22,10 +24,11 @@ std::vector<uint8_t> serialise(T value) {
 
 // Bumped whenever the syntax or the decoding process changes; conformance streams are then
 // regenerated (conformance/README.md).
-constexpr uint16_t kSyntaxVersion = 1;
+constexpr uint16_t kSyntaxVersion = 2;
 
 // Limits a decoder checks before it allocates anything (docs/bitstream.md, "Limits").
 constexpr uint32_t kMaxFrames = 1000000;
+constexpr uint32_t kMaxFirstFrame = 1000000000;  // the input's frame number of frame 0
 constexpr uint32_t kMaxGomFrames = 65535;
 constexpr uint32_t kMaxVertices = 1u << 24;
 constexpr uint32_t kMaxTriangles = 1u << 25;
@@ -38,9 +41,58 @@ enum class PMeshMode : uint8_t {
 
 constexpr uint16_t kMaxCameras = 64;
 constexpr uint16_t kMaxImageSize = 16384;
+constexpr uint16_t kMaxCameraNameBytes = 255;
+constexpr uint16_t kMaxDescriptionBytes = 4096;
+
+// True when `s` is well-formed UTF-8 (no overlong forms, surrogates or code points past
+// U+10FFFF) without NUL bytes: the texts of the stream are written into JSON.
+inline bool isValidText(const std::string& s) {
+  size_t i = 0;
+  while (i < s.size()) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c == 0) return false;
+    int more = 0;
+    uint32_t cp = 0, min = 0;
+    if (c < 0x80) {
+      ++i;
+      continue;
+    } else if ((c & 0xE0) == 0xC0) {
+      more = 1, cp = c & 0x1F, min = 0x80;
+    } else if ((c & 0xF0) == 0xE0) {
+      more = 2, cp = c & 0x0F, min = 0x800;
+    } else if ((c & 0xF8) == 0xF0) {
+      more = 3, cp = c & 0x07, min = 0x10000;
+    } else {
+      return false;
+    }
+    if (i + static_cast<size_t>(more) >= s.size()) return false;
+    for (int k = 1; k <= more; ++k) {
+      const unsigned char d = static_cast<unsigned char>(s[i + k]);
+      if ((d & 0xC0) != 0x80) return false;
+      cp = (cp << 6) | (d & 0x3F);
+    }
+    if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return false;
+    i += static_cast<size_t>(more) + 1;
+  }
+  return true;
+}
+
+// A text: `lengthName` (u16, 0 .. maxBytes, or 1 .. when `nonEmpty`), then that many bytes of
+// UTF-8 (`name`).
+template <class Io>
+void transferText(Io& io, const char* lengthName, const char* name, std::string& s,
+                  uint16_t maxBytes, bool nonEmpty) {
+  uint16_t length = static_cast<uint16_t>(std::min<size_t>(s.size(), UINT16_MAX));
+  io.u16(lengthName, length, nonEmpty ? 1 : 0, maxBytes);
+  std::vector<uint8_t> bytes(s.begin(), s.end());
+  io.bytes(name, bytes, length);
+  if (Io::kReading) s.assign(bytes.begin(), bytes.end());
+  io.require(isValidText(s), std::string(name) + " must be UTF-8 text without NUL bytes");
+}
 
 // One calibrated camera (docs/cameras.md conventions) and the texture box its pictures cover.
 struct CameraParameters {
+  std::string cam_name = "cam";            // the input dataset's camera name
   uint16_t cam_width = 0, cam_height = 0;  // image size, pixels
   double cam_fx = 1, cam_fy = 1, cam_cx = 0, cam_cy = 0;
   double cam_k1 = 0, cam_k2 = 0, cam_p1 = 0, cam_p2 = 0, cam_k3 = 0;
@@ -52,6 +104,7 @@ struct CameraParameters {
 
 template <class Io>
 void transfer(Io& io, CameraParameters& c) {
+  transferText(io, "cam_name_length", "cam_name", c.cam_name, kMaxCameraNameBytes, true);
   io.u16("cam_width", c.cam_width, 2, kMaxImageSize);
   io.u16("cam_height", c.cam_height, 2, kMaxImageSize);
   double* const values[] = {&c.cam_fx, &c.cam_fy, &c.cam_cx, &c.cam_cy, &c.cam_k1,
@@ -86,12 +139,17 @@ void transfer(Io& io, CameraParameters& c) {
 
 struct SequenceHeader {
   uint16_t sh_syntax_version = kSyntaxVersion;
+  uint32_t sh_first_frame = 0;  // the input's frame number of stream frame 0
   uint32_t sh_frame_count = 0;
   double sh_frame_rate = 25.0;
   uint8_t sh_grid_bits = 12;
   double sh_grid_origin[3] = {0, 0, 0};
   double sh_grid_step = 1.0;
   std::vector<CameraParameters> cameras;  // sh_num_cameras; textures are coded when > 0
+  // Present when sh_num_cameras > 0: the input dataset's fields the rest does not code.
+  std::string sh_description;  // free text
+  uint8_t sh_up_present = 0;
+  double sh_up[3] = {0, 1, 0};  // the world's up direction, when sh_up_present
 };
 
 template <class Io>
@@ -101,6 +159,7 @@ void transfer(Io& io, SequenceHeader& sh) {
              "sh_syntax_version " + std::to_string(sh.sh_syntax_version) +
                  " is not supported (this decoder reads version " + std::to_string(kSyntaxVersion) +
                  ")");
+  io.u32("sh_first_frame", sh.sh_first_frame, 0, kMaxFirstFrame);
   io.u32("sh_frame_count", sh.sh_frame_count, 1, kMaxFrames);
   io.f64("sh_frame_rate", sh.sh_frame_rate);
   io.require(std::isfinite(sh.sh_frame_rate) && sh.sh_frame_rate > 0 && sh.sh_frame_rate <= 1000,
@@ -120,6 +179,22 @@ void transfer(Io& io, SequenceHeader& sh) {
   if (Io::kReading) sh.cameras.resize(numCameras);
   for (CameraParameters& c : sh.cameras)
     transfer(io, c);
+  for (size_t i = 0; i < sh.cameras.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      io.require(sh.cameras[i].cam_name != sh.cameras[j].cam_name,
+                 "cam_name '" + sh.cameras[i].cam_name + "' is given to two cameras");
+  if (sh.cameras.empty()) return;
+  transferText(io, "sh_description_length", "sh_description", sh.sh_description,
+               kMaxDescriptionBytes, false);
+  io.u8("sh_up_present", sh.sh_up_present, 0, 1);
+  if (!sh.sh_up_present) return;
+  io.f64("sh_up_x", sh.sh_up[0]);
+  io.f64("sh_up_y", sh.sh_up[1]);
+  io.f64("sh_up_z", sh.sh_up[2]);
+  io.require(std::isfinite(sh.sh_up[0]) && std::isfinite(sh.sh_up[1]) &&
+                 std::isfinite(sh.sh_up[2]) &&
+                 (sh.sh_up[0] != 0 || sh.sh_up[1] != 0 || sh.sh_up[2] != 0),
+             "sh_up must be finite and not zero");
 }
 
 constexpr uint16_t kMaxMotionQuantStep = 4096;

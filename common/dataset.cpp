@@ -238,6 +238,21 @@ Dataset parseDataset(const std::string& text, const std::string& name, const std
     dc.alphaMask = r.boolean("alphaMask", false);
     dc.background = r.string("background");
     dc.backgroundVideo = r.string("backgroundVideo");
+    if (r.has("textureBox")) {
+      const Json& b = r.get("textureBox");
+      const std::string what = r.field("textureBox") +
+                               ": must be [x, y, width, height], integers with x, y >= 0 and "
+                               "width, height >= 1";
+      check(b.is_array() && b.size() == 4, what);
+      std::array<int, 4> box{};
+      for (size_t k = 0; k < 4; ++k) {
+        check(b[k].is_number_integer(), what);
+        const int64_t v = b[k].get<int64_t>();
+        check(v >= (k < 2 ? 0 : 1) && v <= 65535, what);
+        box[k] = static_cast<int>(v);
+      }
+      dc.textureBox = box;
+    }
     r.noOtherKeys();
     d.cameras.push_back(std::move(dc));
   }
@@ -351,6 +366,11 @@ std::string formatDataset(const Dataset& d, const std::string& outputFolder) {
     if (dc.alphaMask) j.member("alphaMask", "true");
     if (!dc.background.empty()) j.member("background", relative(dc.background));
     if (!dc.backgroundVideo.empty()) j.member("backgroundVideo", relative(dc.backgroundVideo));
+    if (dc.textureBox) {
+      const std::array<int, 4>& b = *dc.textureBox;
+      j.member("textureBox", "[" + jsonValue(b[0]) + ", " + jsonValue(b[1]) + ", " +
+                                 jsonValue(b[2]) + ", " + jsonValue(b[3]) + "]");
+    }
     j.close();
   }
   cameras += d.cameras.empty() ? "]" : "\n  ]";

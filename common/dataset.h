@@ -10,6 +10,7 @@
 // conversion names one still file used for every frame (a still multi-view set has one frame).
 #pragma once
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -33,6 +34,9 @@ struct DatasetCamera {
   bool alphaMask = false;       // the images' alpha channel is the silhouette
   std::string background;       // optional background without the object (PNG pattern or still)
   std::string backgroundVideo;  // optional background video
+  // The texture box a 3DVO stream codes of this camera, [x, y, width, height] in pixels
+  // (written by 3dvo-dec; 3dvo-metrics measures inside it).
+  std::optional<std::array<int, 4>> textureBox;
 };
 
 struct Dataset {

@@ -44,6 +44,18 @@ std::vector<std::string> readMd5Lines(const std::string& path) {
   return lines;
 }
 
+// The frame number of an "MD5 frame=<n> ..." line (-1 when it has none).
+int64_t md5LineFrame(const std::string& line) {
+  const std::string prefix = "MD5 frame=";
+  if (line.rfind(prefix, 0) != 0) return -1;
+  int64_t n = 0;
+  size_t i = prefix.size();
+  if (i >= line.size() || line[i] < '0' || line[i] > '9') return -1;
+  for (; i < line.size() && line[i] >= '0' && line[i] <= '9' && n < (int64_t{1} << 40); ++i)
+    n = n * 10 + (line[i] - '0');
+  return n;
+}
+
 std::string cameraFolder(int camera) {
   return "cam" + std::to_string(camera);
 }
@@ -68,21 +80,28 @@ Image cameraFrame(const YuvPicture& picture, const TextureBox& box, const Image&
   return out;
 }
 
-// The decoded output as a dataset (docs/dataset.md): meshes and per-camera RGBA frames.
+// The decoded output as a dataset (docs/dataset.md): meshes and per-camera RGBA frames, with
+// everything of the input dataset the stream carries (cameras with their names, description,
+// up, frame numbers from `firstNumber`) and each camera's texture box.
 Dataset decodedDataset(const StreamDecoder& decoder, const std::string& folder,
-                       const std::string& meshPattern, int frames) {
+                       const std::string& meshPattern, int firstNumber, int frames) {
+  const SequenceHeader& sh = decoder.sequenceHeader();
   Dataset d;
   d.folder = folder;
-  d.description = "decoded by 3dvo-dec";
+  d.description = sh.sh_description;
+  d.firstFrame = firstNumber;
   d.frameCount = frames;
-  d.frameRate = decoder.sequenceHeader().sh_frame_rate;
+  d.frameRate = sh.sh_frame_rate;
+  if (sh.sh_up_present) d.up = Vec3d{sh.sh_up[0], sh.sh_up[1], sh.sh_up[2]};
   d.meshes = meshPattern;
-  const auto& cameras = decoder.sequenceHeader().cameras;
+  const auto& cameras = sh.cameras;
   for (size_t c = 0; c < cameras.size(); ++c) {
     DatasetCamera dc;
     dc.camera = toCamera(cameras[c], static_cast<int>(c));
     dc.images = cameraFolder(static_cast<int>(c)) + "/" + imagePattern(meshPattern);
     dc.alphaMask = true;
+    const TextureBox box = textureBox(cameras[c]);
+    dc.textureBox = std::array<int, 4>{box.x, box.y, box.width, box.height};
     d.cameras.push_back(dc);
   }
   return d;
@@ -114,8 +133,8 @@ void extractTextures(const std::string& streamPath, const std::string& name, con
 int main(int argc, char** argv) {
   return runApp("3dvo-dec", [&]() {
     std::string extractDir, streamPath, outputDir, meshPattern = "%04d.obj", verifyPath;
-    bool trace = false;
-    int threads = 1;
+    bool trace = false, renumber = false;
+    int threads = 1, firstFrame = 0, frameCount = 0;
     int maxVertexFramesPerByte = static_cast<int>(kDefaultMaxVertexFramesPerByte);
     int maxTexturePixelsPerByte = static_cast<int>(kDefaultMaxTexturePixelsPerByte);
     PngEffort pngEffort = PngEffort::kFast;
@@ -124,7 +143,16 @@ int main(int argc, char** argv) {
     table.add("BitstreamFile", streamPath, "the .3dvo stream to decode", "-i");
     table.add("OutputDir", outputDir, "folder for the decoded frames (none: hashes only)", "-o");
     table.add("OutputMeshPattern", meshPattern,
-              "file name of decoded frame n inside OutputDir (printf pattern, n from 0)");
+              "file name of decoded frame n inside OutputDir (printf pattern; n is the input's "
+              "frame number, or from 0 with RenumberFrames)");
+    table.add("RenumberFrames", renumber,
+              "number the output frames from 0 (files, gom_starts.txt, dataset.json) instead "
+              "of with the input's frame numbers; the MD5 lines keep the input's numbers");
+    table.add("FirstFrame", firstFrame, 0, static_cast<int>(kMaxFirstFrame + kMaxFrames - 1),
+              "decode from this input frame number on (not set: the stream's first frame); "
+              "decoding starts at the GOM holding it, output starts at it");
+    table.add("FrameCount", frameCount, 0, static_cast<int>(kMaxFrames),
+              "output this many frames from FirstFrame (0 = to the end of the stream)");
     table.addEnum("PngCompression", pngEffort,
                   {{"fast", PngEffort::kFast}, {"small", PngEffort::kSmall}},
                   "the camera frames' PNG files: fast = zlib level 1, Up filter; small = zlib "
@@ -155,6 +183,7 @@ int main(int argc, char** argv) {
 
     std::vector<std::string> expected;
     if (!verifyPath.empty()) expected = readMd5Lines(verifyPath);
+    const bool range = table.wasSet("FirstFrame") || frameCount > 0;
     // A folder this run creates is removed again if the run fails (it is empty then: the
     // frames are staged and removed on failure).
     struct CreatedFolder {
@@ -177,15 +206,37 @@ int main(int argc, char** argv) {
     StreamDecoder decoder(units, streamPath, trace ? stderr : nullptr);
     decoder.setMaxVertexFramesPerByte(static_cast<uint64_t>(maxVertexFramesPerByte));
     decoder.setMaxTexturePixelsPerByte(static_cast<uint64_t>(maxTexturePixelsPerByte));
+    if (range) decoder.setFrameRange(table.wasSet("FirstFrame") ? firstFrame : -1, frameCount);
     decoder.setThreads(
         threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency())));
     StagedFiles outputs;
     uint64_t vertexFrames = 0;
-    int frames = 0;
-    size_t lines = 0;  // MD5 lines printed so far, compared in order with the log's
+    int frames = 0;         // frames output so far
+    int64_t outFirst = -1;  // the stream frame of the first one
+    // The input's frame number of stream frame k, and the number its files get.
+    auto inputNumber = [&](int k) {
+      return static_cast<int>(decoder.sequenceHeader().sh_first_frame + static_cast<uint32_t>(k));
+    };
+    auto outputNumber = [&](int k) {
+      return renumber ? k - static_cast<int>(outFirst) : inputNumber(k);
+    };
+    size_t lines = 0;            // MD5 lines printed so far, compared in order with the log's
+    bool rangeFiltered = false;  // the log's lines cut to the decoded range
     auto report = [&](const std::string& line) {
       std::printf("%s\n", line.c_str());
       if (verifyPath.empty()) return;
+      if (range && !rangeFiltered) {
+        // Compared with the log's lines of the decoded frames only.
+        const SequenceHeader& sh = decoder.sequenceHeader();
+        const int64_t first = table.wasSet("FirstFrame") ? firstFrame : sh.sh_first_frame;
+        const int64_t end =
+            frameCount > 0 ? first + frameCount : int64_t{sh.sh_first_frame} + sh.sh_frame_count;
+        std::vector<std::string> kept;
+        for (const std::string& e : expected)
+          if (md5LineFrame(e) >= first && md5LineFrame(e) < end) kept.push_back(e);
+        expected.swap(kept);
+        rangeFiltered = true;
+      }
       check(lines < expected.size(), verifyPath + ": has no line for '" + line + "'");
       check(expected[lines] == line, verifyPath + ": line " + std::to_string(lines + 1) +
                                          " of its MD5 lines differs: "
@@ -197,15 +248,16 @@ int main(int argc, char** argv) {
     std::map<std::pair<int, int>, std::vector<uint8_t>> pngs;  // (frame, camera): to be written
     decoder.decode(
         [&](int frame, const IntMesh& mesh) {
-          report(geometryHashLine(frame, mesh));
+          if (outFirst < 0) outFirst = frame;
+          report(geometryHashLine(inputNumber(frame), mesh));
           if (!outputDir.empty())
-            outputs.write(outputDir + "/" + framePath(meshPattern, frame),
+            outputs.write(outputDir + "/" + framePath(meshPattern, outputNumber(frame)),
                           formatObj(decoder.grid().dequantise(mesh)));
           vertexFrames += mesh.positions.size();
-          frames = frame + 1;
+          ++frames;
         },
         [&](int frame, int camera, const YuvPicture& picture, const Image&) {
-          report(textureHashLine(frame, camera, picture));
+          report(textureHashLine(inputNumber(frame), camera, picture));
           if (outputDir.empty()) return;
           std::vector<uint8_t> png;
           {
@@ -216,8 +268,8 @@ int main(int argc, char** argv) {
           }
           const std::string folder = outputDir + "/" + cameraFolder(camera);
           makeDirectories(folder);
-          outputs.write(folder + "/" + framePath(imagePattern(meshPattern), frame), png.data(),
-                        png.size());
+          outputs.write(folder + "/" + framePath(imagePattern(meshPattern), outputNumber(frame)),
+                        png.data(), png.size());
         },
         // The PNGs are made where the pictures are decoded (on Threads threads), then written
         // above in order.
@@ -233,13 +285,20 @@ int main(int argc, char** argv) {
       check(expected.size() == lines, verifyPath + ": has " + std::to_string(expected.size()) +
                                           " MD5 lines, the stream gives " + std::to_string(lines));
     if (!outputDir.empty() && !decoder.sequenceHeader().cameras.empty())
-      outputs.write(
-          outputDir + "/" + kDatasetFileName,
-          formatDataset(decodedDataset(decoder, outputDir, meshPattern, frames), outputDir));
-    // Where each GOM starts: 3dvo-metrics matches vertices there (GroupStarts), the player
-    // of 3dvo-render --Mode=export seeks to these frames.
-    if (!outputDir.empty())
-      outputs.write(outputDir + "/" + kGomStartsFileName, formatGomStarts(decoder.gomStarts()));
+      outputs.write(outputDir + "/" + kDatasetFileName,
+                    formatDataset(decodedDataset(decoder, outputDir, meshPattern,
+                                                 outputNumber(static_cast<int>(outFirst)), frames),
+                                  outputDir));
+    // Where each GOM starts (the output's frame numbers; the starts within the output):
+    // 3dvo-metrics matches vertices there (GroupStarts), the player of 3dvo-render
+    // --Mode=export seeks to these frames.
+    if (!outputDir.empty()) {
+      std::vector<uint32_t> starts;
+      for (uint32_t start : decoder.gomStarts())
+        if (start >= outFirst && start < outFirst + frames)
+          starts.push_back(static_cast<uint32_t>(outputNumber(static_cast<int>(start))));
+      outputs.write(outputDir + "/" + kGomStartsFileName, formatGomStarts(starts));
+    }
     if (!extractDir.empty()) extractTextures(streamPath, streamPath, extractDir, outputs);
     outputs.commit();
     createdFolder.keep = true;
@@ -253,12 +312,18 @@ int main(int argc, char** argv) {
     if (!outputDir.empty()) std::printf("output              : %s\n", outputDir.c_str());
     std::printf("bytes               : %zu\n", static_cast<size_t>(streamBytes));
     const uint64_t textureBytes = decoder.textureBytes();
-    std::printf("bits/vertex/frame   : %.4f (geometry and headers only)\n",
-                8.0 * (streamBytes - textureBytes) / static_cast<double>(vertexFrames));
-    if (textureBytes > 0)
-      std::printf("texture kbit/s      : %.3f (all cameras)\n",
-                  8.0 * textureBytes / 1000.0 / (frames / fps));
-    std::printf("kbit/s at %g fps    : %.3f\n", fps, bits / 1000.0 / (frames / fps));
+    if (range) {  // rates need the whole stream
+      std::printf("range               : frames %d .. %d of the input\n",
+                  inputNumber(static_cast<int>(outFirst)),
+                  inputNumber(static_cast<int>(outFirst) + frames - 1));
+    } else {
+      std::printf("bits/vertex/frame   : %.4f (geometry and headers only)\n",
+                  8.0 * (streamBytes - textureBytes) / static_cast<double>(vertexFrames));
+      if (textureBytes > 0)
+        std::printf("texture kbit/s      : %.3f (all cameras)\n",
+                    8.0 * textureBytes / 1000.0 / (frames / fps));
+      std::printf("kbit/s at %g fps    : %.3f\n", fps, bits / 1000.0 / (frames / fps));
+    }
     std::printf("time                : %.3f s\n", seconds);
     if (!verifyPath.empty()) std::printf("verify              : all %d frames match\n", frames);
     return 0;

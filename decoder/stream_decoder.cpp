@@ -150,6 +150,27 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
   expectUnit(UnitType::kSequenceHeader, "at the start");
   sh_ = parseUnit<SequenceHeader>(unit, name_, trace_, "the sequence header");
 
+  // The frame range (setFrameRange) as stream frames [outFirst, outEnd).
+  const int64_t firstNumber = sh_.sh_first_frame;
+  const int64_t lastNumber = firstNumber + sh_.sh_frame_count - 1;
+  const std::string streamFrames = "the stream's frames are " + std::to_string(firstNumber) +
+                                   " .. " + std::to_string(lastNumber);
+  uint32_t outFirst = 0, outEnd = sh_.sh_frame_count;
+  if (rangeFirst_ >= 0) {
+    if (rangeFirst_ < firstNumber || rangeFirst_ > lastNumber)
+      throw Error(name_ + ": FirstFrame " + std::to_string(rangeFirst_) +
+                  " is not in the stream (" + streamFrames + ")");
+    outFirst = static_cast<uint32_t>(rangeFirst_ - firstNumber);
+  }
+  if (rangeCount_ > 0) {
+    const int64_t last = firstNumber + outFirst + rangeCount_ - 1;
+    if (last > lastNumber)
+      throw Error(name_ + ": FirstFrame + FrameCount - 1 = " + std::to_string(last) +
+                  " is past the stream's last frame (" + streamFrames + ")");
+    outEnd = static_cast<uint32_t>(outFirst + rangeCount_);
+  }
+  auto inRange = [&](uint64_t frame) { return frame >= outFirst && frame < outEnd; };
+
   IntMesh mesh;
   std::vector<Vec3i> previous, key;
   PMeshWorkspace work;
@@ -212,7 +233,9 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
   const Grid textureGrid = grid();
   const bool textured = !cameras.empty();
   GomReplay replay;
-  auto emit = [&](int frame, const IntMesh& m) { onFrame(frame, m); };
+  auto emit = [&](int frame, const IntMesh& m) {
+    if (inRange(static_cast<uint64_t>(frame))) onFrame(frame, m);
+  };
   auto decodeTextures = [&](uint32_t first, uint32_t frames) {
     const size_t count = size_t{frames} * cameras.size();
     // The GOM's frames, made again in order as the items ask for them: each is kept until
@@ -284,18 +307,19 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
             throw Error(p.where + ": " + e.what());
           }
           d.shape = textureShape(*frameMesh(k), cameras[c]);
-          if (prepareTexture)
+          if (prepareTexture && inRange(first + k))
             prepareTexture(static_cast<int>(first + k), static_cast<int>(c), d.picture, d.shape);
           return d;
         },
         [&](size_t i, Decoded& d) {
-          if (onTexture)
+          if (onTexture && inRange(first + i / cameras.size()))
             onTexture(static_cast<int>(first + i / cameras.size()),
                       static_cast<int>(i % cameras.size()), d.picture, d.shape);
         });
   };
 
   while (nextFrame < sh_.sh_frame_count) {
+    if (nextFrame >= outEnd) return;  // the range is decoded: the rest is not read
     const std::string when =
         "before frame " + std::to_string(nextFrame) + " of " + std::to_string(sh_.sh_frame_count);
     expectUnit(UnitType::kGomHeader, when);
@@ -308,6 +332,21 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
       throw Error(gomWhere + ": GOM of " + std::to_string(gh.gh_frame_count) +
                   " frames runs past sh_frame_count " + std::to_string(sh_.sh_frame_count));
     gomStarts_.push_back(gh.gh_first_frame);
+
+    if (uint64_t{gh.gh_first_frame} + gh.gh_frame_count <= outFirst) {
+      // Before the range: the GOM's units are read (their types checked), not decoded.
+      const bool intra = gh.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kIntra);
+      const size_t meshes = intra ? gh.gh_frame_count : gh.keyframes.size();
+      for (size_t k = 0; k < meshes; ++k)
+        expectUnit(intra || k == 0 ? UnitType::kIMesh : UnitType::kPMesh,
+                   "in the GOM at frame " + std::to_string(gh.gh_first_frame));
+      for (size_t k = 0; k < size_t{gh.gh_frame_count} * sh_.cameras.size(); ++k) {
+        expectUnit(UnitType::kTexture, "in the GOM at frame " + std::to_string(gh.gh_first_frame));
+        textureBytes_ += kUnitOverhead + unit.size;
+      }
+      nextFrame += gh.gh_frame_count;
+      continue;
+    }
 
     const PMeshMode mode = static_cast<PMeshMode>(gh.gh_pmesh_mode);
     PMeshParams pmParams;

@@ -68,6 +68,18 @@ class StreamDecoder {
   void decode(const FrameCallback& onFrame, const TextureCallback& onTexture = {},
               const TextureCallback& prepareTexture = {});
 
+  // Decodes only what frames `first` .. `first + count - 1` need (count 0: to the end), in the
+  // input's frame numbers (sh_first_frame + stream frame): GOMs before the GOM holding `first`
+  // are skipped (their units are read and checked for type, not decoded), decoding starts at
+  // that GOM's I mesh and IDR pictures, and stops after the GOM holding the last frame (later
+  // units are not read). onFrame, onTexture and prepareTexture are called for the range's
+  // frames only (`frame` still counts from the stream's frame 0). decode() throws an Error
+  // naming the stream when the range is not within its frames.
+  void setFrameRange(int64_t first, int64_t count) {
+    rangeFirst_ = first;
+    rangeCount_ = count;
+  }
+
   // Sets the decoding-work limit (kDefaultMaxVertexFramesPerByte above); 0 lifts it.
   void setMaxVertexFramesPerByte(uint64_t limit) { maxVertexFramesPerByte_ = limit; }
   // Sets the texture-work limit (kDefaultMaxTexturePixelsPerByte above); 0 lifts it.
@@ -96,6 +108,7 @@ class StreamDecoder {
   std::vector<uint32_t> gomStarts_;
   uint64_t maxVertexFramesPerByte_ = kDefaultMaxVertexFramesPerByte;
   uint64_t maxTexturePixelsPerByte_ = kDefaultMaxTexturePixelsPerByte;
+  int64_t rangeFirst_ = -1, rangeCount_ = 0;  // setFrameRange; -1: from the stream's first
   int threads_ = 1;
 };
 

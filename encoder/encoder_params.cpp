@@ -12,9 +12,16 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.section("Input");
   t.add("InputMeshPattern", inputMeshPattern,
         "input OBJ frames as a printf pattern, e.g. seq/%04d.obj (.obj.gz read through zlib)");
-  t.add("FirstFrame", firstFrame, 0, 1000000000, "number of the first input frame");
-  t.add("FrameCount", frameCount, 1, static_cast<int>(kMaxFrames), "number of frames to code");
-  t.add("FrameRate", frameRate, 0.001, 1000, "frames per second (rate figures, stream header)");
+  t.add("FirstFrame", firstFrame, 0, static_cast<int>(kMaxFirstFrame),
+        "frame number of the first input frame (the InputMeshPattern file number; with a "
+        "Dataset its frame number, frames.first + index; not set: the dataset's first frame, "
+        "else 0); recorded in the stream, the decoder names its output with these numbers");
+  t.add("FrameCount", frameCount, 0, static_cast<int>(kMaxFrames),
+        "number of frames to code; 0 = every consecutive frame from FirstFrame until the "
+        "first missing input file (or the dataset's last frame)");
+  t.add("FrameRate", frameRate, 0.001, 1000,
+        "frames per second (rate figures, stream header); not set: the Dataset's frames.rate, "
+        "else 25");
   t.section("Geometry");
   t.add("GridBits", gridBits, 8, 20,
         "bits per coordinate of the integer grid spanning the sequence's bounding box");
@@ -75,8 +82,8 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.section("Output");
   t.add("BitstreamFile", bitstreamFile, "the .3dvo stream to write", "-o");
   t.add("ReconMeshPattern", reconMeshPattern,
-        "optional: write the encoder's reconstruction as OBJ frames (printf pattern, frame "
-        "numbers from 0)");
+        "optional: write the encoder's reconstruction as OBJ frames (printf pattern filled "
+        "with the input's frame numbers, like the decoder's output)");
 }
 
 double EncoderParams::effectiveLambda() const {
@@ -114,7 +121,8 @@ void EncoderParams::validate() const {
   check(pmeshMode != PMeshMode::kIntra || (keyframeCount == 0 && keyframeMaxError == 0),
         "keyframes need P meshes: PMeshMode intra codes every frame");
   // Before any frame is read: a bad GOM list is found at once.
-  if (!gomListFile.empty()) goms(static_cast<size_t>(frameCount));
+  // (FrameCount 0, all frames, is checked once the frames are counted.)
+  if (!gomListFile.empty() && frameCount > 0) goms(static_cast<size_t>(frameCount));
 }
 
 }  // namespace tdvo

@@ -19,7 +19,7 @@ struct EncoderParams {
   // Input
   std::string inputMeshPattern;
   int firstFrame = 0;
-  int frameCount = 1;
+  int frameCount = 0;  // 0: every frame from firstFrame until a file is missing (input_frames.h)
   double frameRate = 25.0;
   // Geometry
   int gridBits = 12;

@@ -14,6 +14,7 @@
 #include "common/progress.h"
 #include "common/sequence.h"
 #include "common/yuv.h"
+#include "encoder/input_frames.h"
 #include "encoder/sequence_encoder.h"
 #include "encoder/texture_encoder.h"
 
@@ -35,18 +36,44 @@ int main(int argc, char** argv) {
     // frames when it codes that GOM, so memory is bounded by a few GOMs, not by the sequence.
     FrameSource source;
     Dataset dataset;
-    if (!params.dataset.empty()) dataset = readDataset(params.dataset);
-    source.count = static_cast<size_t>(params.frameCount);
-    if (!params.inputMeshPattern.empty()) {
-      source.name = [&params](size_t k) {
-        return framePath(params.inputMeshPattern, params.firstFrame + static_cast<int>(k));
-      };
-    } else {
-      checkDatasetMeshes(dataset, params.firstFrame, params.frameCount);
-      source.name = [&params, &dataset](size_t k) {
-        return dataset.framePath(dataset.meshes, params.firstFrame + static_cast<int>(k));
-      };
+    const Dataset* input = nullptr;  // the dataset, when given
+    if (!params.dataset.empty()) {
+      dataset = readDataset(params.dataset);
+      input = &dataset;
+      // Frame numbers are the dataset's (frames.first + index): start at its first frame.
+      if (!table.wasSet("FirstFrame")) params.firstFrame = dataset.firstFrame;
+      // ... and its frame rate, which the stream carries to the decoded dataset.
+      if (!table.wasSet("FrameRate")) {
+        check(dataset.frameRate >= 0.001 && dataset.frameRate <= 1000,
+              dataset.resolve(kDatasetFileName) +
+                  ": frames.rate is outside FrameRate's range 0.001 .. 1000; set FrameRate");
+        params.frameRate = dataset.frameRate;
+      }
     }
+    // FrameCount not set: every frame from FirstFrame until the first missing file.
+    std::string found;
+    params.frameCount = resolveFrameCount(params, input, &found);
+    if (!found.empty()) std::printf("# input frames: %s\n", found.c_str());
+    if (input) checkTextureFrames(params, dataset, params.frameCount);
+    if (input) {
+      // What of the dataset the stream does not carry, said rather than dropped silently
+      // (docs/bitstream.md, section 2): the decoded dataset has the decoded files instead.
+      int masks = 0, backgrounds = 0;
+      for (const DatasetCamera& c : dataset.cameras) {
+        masks += !c.masks.empty() || c.alphaMask;
+        backgrounds += !c.background.empty() || !c.backgroundVideo.empty();
+      }
+      if (masks + backgrounds > 0)
+        std::printf(
+            "# dataset fields not coded: masks of %d and backgrounds of %d cameras (the "
+            "decoded images carry the decoded shape as alpha)\n",
+            masks, backgrounds);
+    }
+    if (!params.gomListFile.empty()) params.goms(static_cast<size_t>(params.frameCount));
+    source.count = static_cast<size_t>(params.frameCount);
+    source.name = [&params, input](size_t k) {
+      return inputMeshPath(params, input, params.firstFrame + static_cast<int>(k));
+    };
     source.read = [&source](size_t k) { return readObj(source.name(k)); };
     std::optional<TextureBoxFinder> boxes;
     if (!params.dataset.empty()) boxes.emplace(params, dataset, source.count);
@@ -68,15 +95,18 @@ int main(int argc, char** argv) {
       coded = encodeSequence(
           params, grid, source,
           [&](int frame, const IntMesh& recon) {
-            std::printf("%s\n", geometryHashLine(frame, recon).c_str());
+            // MD5 lines and files carry the input's frame numbers (sh_first_frame + frame).
+            const int number = params.firstFrame + frame;
+            std::printf("%s\n", geometryHashLine(number, recon).c_str());
             if (!params.reconMeshPattern.empty())
-              outputs.write(framePath(params.reconMeshPattern, frame),
+              outputs.write(framePath(params.reconMeshPattern, number),
                             formatObj(grid.dequantise(recon)));
             progress.tick(frame + 1);
           },
           textures.get(),
           [&](int frame, int camera, const YuvPicture& picture, const Image&) {
-            std::printf("%s\n", textureHashLine(frame, camera, picture).c_str());
+            std::printf("%s\n",
+                        textureHashLine(params.firstFrame + frame, camera, picture).c_str());
           });
     }
     outputs.write(params.bitstreamFile, coded.stream.data(), coded.stream.size());

@@ -132,13 +132,24 @@ EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
   EncodedSequence out;
   UnitWriter units;
   SequenceHeader sh;
+  check(params.firstFrame >= 0 && static_cast<uint32_t>(params.firstFrame) <= kMaxFirstFrame,
+        "FirstFrame out of range");
+  sh.sh_first_frame = static_cast<uint32_t>(params.firstFrame);
   sh.sh_frame_count = static_cast<uint32_t>(source.count);
   sh.sh_frame_rate = params.frameRate;
   sh.sh_grid_bits = static_cast<uint8_t>(params.gridBits);
   for (int a = 0; a < 3; ++a)
     sh.sh_grid_origin[a] = grid.origin[a];
   sh.sh_grid_step = grid.step;
-  if (textures) sh.cameras = textures->cameras();
+  if (textures) {
+    // The dataset's fields the cameras do not code travel with them (docs/bitstream.md).
+    sh.cameras = textures->cameras();
+    sh.sh_description = textures->dataset().description;
+    sh.sh_up_present = textures->dataset().up ? 1 : 0;
+    if (textures->dataset().up)
+      for (int a = 0; a < 3; ++a)
+        sh.sh_up[a] = (*textures->dataset().up)[a];
+  }
   units.write(UnitType::kSequenceHeader, serialise(sh));
 
   // GOMs are coded in parallel (Threads) and written in order. Each task reads its own frames,

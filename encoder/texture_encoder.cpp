@@ -7,6 +7,7 @@
 #include "common/texture_shape.h"
 #include "decoder/h264_decoder.h"
 #include "encoder/h264_encoder.h"
+#include "encoder/input_frames.h"
 #include "encoder/texture_padding.h"
 
 namespace tdvo {
@@ -35,12 +36,19 @@ TextureBoxFinder::TextureBoxFinder(const EncoderParams& params, const Dataset& d
   check(!dataset.cameras.empty(), name + ": no cameras");
   check(dataset.cameras.size() <= kMaxCameras,
         name + ": more than " + std::to_string(kMaxCameras) + " cameras");
-  check(params.firstFrame + static_cast<int>(frameCount) <= dataset.frameCount,
-        name + ": FirstFrame + FrameCount = " + std::to_string(params.firstFrame + frameCount) +
-            " but the dataset has " + std::to_string(dataset.frameCount) + " frames");
+  check(frameCount > 0 && frameCount <= kMaxFrames, name + ": no frames to code");
+  checkTextureFrames(params, dataset, static_cast<int>(frameCount));
   for (const DatasetCamera& c : dataset.cameras)
     check(c.camera.width <= kMaxImageSize && c.camera.height <= kMaxImageSize,
           name + ": camera " + c.camera.name + " is larger than 16384 pixels");
+  // The texts the stream carries (the rest of the dataset's fields are numbers or paths).
+  check(dataset.description.size() <= kMaxDescriptionBytes,
+        name + ": description: longer than " + std::to_string(kMaxDescriptionBytes) +
+            " bytes, more than the stream carries");
+  for (const DatasetCamera& c : dataset.cameras)
+    check(c.camera.name.size() <= kMaxCameraNameBytes,
+          name + ": camera name '" + c.camera.name.substr(0, 32) + "...' is longer than " +
+              std::to_string(kMaxCameraNameBytes) + " bytes, more than the stream carries");
   boxes_.resize(dataset.cameras.size());
   if (params.textureMode == TextureBoxMode::kBox)
     for (const DatasetCamera& c : dataset.cameras)
@@ -149,11 +157,14 @@ void TextureEncoder::encodeGom(size_t first, const std::vector<IntMesh>& decoded
         const size_t frame = first + k;
         const Camera& camera = shapes_[c].camera();
         const TextureBox box = textureBox(cameras_[c]);
-        const int datasetFrame = params_.firstFrame + static_cast<int>(frame);
+        // Tied by frame number: the input's frame FirstFrame + frame is dataset frame index
+        // FirstFrame + frame - frames.first (checkTextureFrames made sure it is one).
+        const int frameNumber = params_.firstFrame + static_cast<int>(frame);
+        const int datasetFrame = frameNumber - dataset_.firstFrame;
         Image rgb = frames_[c].frame(datasetFrame);
         check(rgb.width == camera.width && rgb.height == camera.height,
               dataset_.resolve(kDatasetFileName) + ": camera " + dataset_.cameras[c].camera.name +
-                  " frame " + std::to_string(datasetFrame) + " is " + std::to_string(rgb.width) +
+                  " frame " + std::to_string(frameNumber) + " is " + std::to_string(rgb.width) +
                   "x" + std::to_string(rgb.height) + ", the calibration says " +
                   std::to_string(camera.width) + "x" + std::to_string(camera.height));
         if (rgb.channels != 3) rgb = convertChannels(rgb, 3);

@@ -29,7 +29,8 @@ class H264Decoder;
 
 // The cameras' texture boxes for a sequence. Made for a dataset and a frame count (it checks
 // that the dataset can be coded: cameras, their number and sizes, enough frames; an Error
-// names the dataset otherwise), it is shown every input mesh (frame k = dataset frame
+// names the dataset otherwise; every coded frame number must be a dataset frame,
+// checkTextureFrames), it is shown every input mesh (frame k = frame number
 // params.firstFrame + k) with add(), from any thread and in any order, e.g. during the pass
 // that takes the bounding box (gridForSequence's `inspect`); boxes() is then each camera's box:
 // in bbox mode the union of the meshes' macroblock boxes, in full mode the whole frame (add()
@@ -55,15 +56,17 @@ class TextureEncoder {
   // `dataset`.
   TextureEncoder(const EncoderParams& params, const Dataset& dataset,
                  const std::vector<TextureBox>& boxes);
-  // With the boxes found from the input meshes in memory (frame k = dataset frame
-  // params.firstFrame + k), params.threadCount() frames at a time; the boxes do not depend on
-  // the thread count.
+  // With the boxes found from the input meshes in memory (frame k = frame number
+  // params.firstFrame + k, i.e. dataset frame index params.firstFrame + k - frames.first),
+  // params.threadCount() frames at a time; the boxes do not depend on the thread count.
   TextureEncoder(const EncoderParams& params, const Dataset& dataset,
                  const std::vector<Mesh>& frames);
   ~TextureEncoder();
 
   // The cameras and boxes, for the sequence header.
   const std::vector<CameraParameters>& cameras() const { return cameras_; }
+  // The input dataset (its description and up direction go into the sequence header).
+  const Dataset& dataset() const { return dataset_; }
 
   // Codes the textures of frames first .. first + decoded.size() - 1 (one GOM) from their
   // decoded meshes; writes one TEXTURE unit per frame and camera (frame-major). The cameras

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/gom_list.h"
 #include "common/grid.h"
 #include "common/md5.h"
 #include "common/obj_io.h"
@@ -116,8 +117,9 @@ TEST_F(AppsTest, EncodeDecodeMd5LinesMatch) {
   EXPECT_EQ(enc.err, "");
   const std::vector<std::string> encLines = test::linesStartingWith(enc.out, "MD5 ");
   ASSERT_EQ(encLines.size(), static_cast<size_t>(kFrames));
+  // The lines and files carry the input's frame numbers (1 .. 6), recorded in the stream.
   for (int f = 0; f < kFrames; ++f)
-    EXPECT_EQ(encLines[f].rfind("MD5 frame=" + std::to_string(f) + " geometry=", 0), 0u);
+    EXPECT_EQ(encLines[f].rfind("MD5 frame=" + std::to_string(f + 1) + " geometry=", 0), 0u);
   EXPECT_NE(enc.out.find("frames              : 6"), std::string::npos) << enc.out;
 
   const CommandResult dec = decode({"-i", "seq.3dvo", "-o", "out"});
@@ -131,7 +133,7 @@ TEST_F(AppsTest, EncodeDecodeMd5LinesMatch) {
   std::vector<std::string> expectedNames;
   for (int f = 0; f < kFrames; ++f) {
     char name[16];
-    std::snprintf(name, sizeof name, "%04d.obj", f);
+    std::snprintf(name, sizeof name, "%04d.obj", f + 1);
     expectedNames.push_back(name);
   }
   expectedNames.push_back("gom_starts.txt");  // beside the frames: where each GOM starts
@@ -146,12 +148,12 @@ TEST_F(AppsTest, EncodeDecodeMd5LinesMatch) {
   const Grid grid = gridForSequence(input, 11);
   std::vector<std::string> libraryLines;
   encodeSequence(params, grid, input, {}, [&](int frame, const IntMesh& mesh) {
-    libraryLines.push_back(geometryHashLine(frame, mesh));
+    libraryLines.push_back(geometryHashLine(frame + 1, mesh));
   });
   EXPECT_EQ(libraryLines, encLines);
   for (int f = 0; f < kFrames; ++f) {
     const std::string decoded = test::readText(dir_.file("out/" + expectedNames[f]));
-    EXPECT_EQ(decoded, test::readText(dir_.file("recon-" + std::to_string(f) + ".obj")));
+    EXPECT_EQ(decoded, test::readText(dir_.file("recon-" + std::to_string(f + 1) + ".obj")));
     // Decoded vertices are grid points: quantising them again changes nothing.
     const Mesh m = parseObj(decoded, expectedNames[f]);
     EXPECT_EQ(m.positions.size(), frames_[f].positions.size());
@@ -161,7 +163,7 @@ TEST_F(AppsTest, EncodeDecodeMd5LinesMatch) {
   // Nothing else was written.
   std::vector<std::string> expectedTop = {"in", "out", "seq.3dvo"};
   for (int f = 0; f < kFrames; ++f)
-    expectedTop.push_back("recon-" + std::to_string(f) + ".obj");
+    expectedTop.push_back("recon-" + std::to_string(f + 1) + ".obj");
   std::sort(expectedTop.begin(), expectedTop.end());
   EXPECT_EQ(test::listFolder(dir_.path()), expectedTop);
 }
@@ -192,13 +194,13 @@ TEST_F(AppsTest, VerifyPassesAndFailsOnAnEditedLog) {
 
   // One hex digit of frame 3 changed.
   std::string edited = enc.out;
-  const size_t at = edited.find("MD5 frame=3 geometry=");
+  const size_t at = edited.find("MD5 frame=4 geometry=");
   ASSERT_NE(at, std::string::npos);
-  char& digit = edited[at + std::string("MD5 frame=3 geometry=").size() + 5];
+  char& digit = edited[at + std::string("MD5 frame=4 geometry=").size() + 5];
   digit = digit == '0' ? '1' : '0';
   test::writeText(dir_.file("edited.log"), edited);
   expectFailure(kDecoder, {"-i", "seq.3dvo", "-o", "out", "--verify", "edited.log"},
-                {"edited.log: line 4 of its MD5 lines differs: expected 'MD5 frame=3 geometry="});
+                {"edited.log: line 4 of its MD5 lines differs: expected 'MD5 frame=4 geometry="});
 
   // A log with a frame missing.
   std::string shorter = enc.out;
@@ -209,9 +211,86 @@ TEST_F(AppsTest, VerifyPassesAndFailsOnAnEditedLog) {
 
   // A log with one frame too many.
   test::writeText(dir_.file("long.log"),
-                  enc.out + "MD5 frame=6 geometry=00000000000000000000000000000000\n");
+                  enc.out + "MD5 frame=7 geometry=00000000000000000000000000000000\n");
   expectFailure(kDecoder, {"-i", "seq.3dvo", "-o", "out", "--verify", "long.log"},
                 {"long.log: has 7 MD5 lines, the stream gives 6"});
+}
+
+// Issue 17.2: the output carries the input's frame numbers (FirstFrame 1 here, recorded in the
+// stream); RenumberFrames names the files from 0 and keeps the MD5 lines' numbers.
+TEST_F(AppsTest, DecodedFilesCarryTheInputFrameNumbersUnlessRenumbered) {
+  const CommandResult enc = encode({"--PMeshMode=d3dmc", "--GOMSize=4"});
+  ASSERT_EQ(enc.exitCode, 0) << enc.err;
+  const CommandResult dec = decode({"-i", "seq.3dvo", "-o", "out"});
+  ASSERT_EQ(dec.exitCode, 0) << dec.err;
+  EXPECT_EQ(test::listFolder(dir_.path() / "out"),
+            (std::vector<std::string>{"0001.obj", "0002.obj", "0003.obj", "0004.obj", "0005.obj",
+                                      "0006.obj", "gom_starts.txt"}));
+  EXPECT_EQ(readGomStarts(dir_.file("out/gom_starts.txt")), (std::vector<int>{1, 5}));
+  // The decoded files are read back by 3dvo-metrics with the input's numbers on both sides.
+  const CommandResult metrics = test::run(
+      dir_, std::string(TDVO_BIN_DIR) + "/3dvo-metrics",
+      {"-r", "in/%03d.obj", "--ReferenceFirstFrame=1", "-t", "out/%04d.obj", "--TestFirstFrame=1",
+       "--GroupStarts=out/gom_starts.txt", "--Correspondence=nearest"});
+  EXPECT_EQ(metrics.exitCode, 0) << metrics.err;
+  EXPECT_NE(metrics.out.find("frames"), std::string::npos);
+
+  const CommandResult renumbered = decode({"-i", "seq.3dvo", "-o", "zero", "--RenumberFrames"});
+  ASSERT_EQ(renumbered.exitCode, 0) << renumbered.err;
+  EXPECT_EQ(test::listFolder(dir_.path() / "zero"),
+            (std::vector<std::string>{"0000.obj", "0001.obj", "0002.obj", "0003.obj", "0004.obj",
+                                      "0005.obj", "gom_starts.txt"}));
+  EXPECT_EQ(readGomStarts(dir_.file("zero/gom_starts.txt")), (std::vector<int>{0, 4}));
+  EXPECT_EQ(test::readText(dir_.file("zero/0000.obj")), test::readText(dir_.file("out/0001.obj")));
+  EXPECT_EQ(test::linesStartingWith(renumbered.out, "MD5 "),
+            test::linesStartingWith(enc.out, "MD5 "));
+}
+
+// Issue 17.4: without FrameCount the encoder codes every frame from FirstFrame until the first
+// missing file and says how many it found; an explicit FrameCount past the files stays an error
+// naming the missing file.
+TEST_F(AppsTest, FrameCountDefaultsToEveryFrameUntilAFileIsMissing) {
+  const CommandResult all = test::run(
+      dir_, kEncoder,
+      {"--InputMeshPattern=in/%03d.obj", "--FirstFrame=2", "--GridBits=11", "-o", "all.3dvo"});
+  ASSERT_EQ(all.exitCode, 0) << all.err;
+  EXPECT_NE(all.out.find("# input frames: 5 frames, 2 .. 6"), std::string::npos) << all.out;
+  EXPECT_NE(all.out.find("in/007.obj, which does not exist"), std::string::npos) << all.out;
+  EXPECT_NE(all.out.find("frames              : 5"), std::string::npos) << all.out;
+  EXPECT_EQ(test::linesStartingWith(all.out, "MD5 ").size(), 5u);
+  expectFailure(kEncoder,
+                {"--InputMeshPattern=in/%03d.obj", "--FirstFrame=2", "--FrameCount=6",
+                 "--GridBits=11", "-o", "more.3dvo"},
+                {"in/007.obj: cannot open"});
+}
+
+// Issue 17.8: a frame range, in input frame numbers: decoding starts at the GOM holding
+// FirstFrame, only the range is output, and its lines are the encoder's for those frames.
+TEST_F(AppsTest, DecoderFrameRangeStartsAtTheGomHoldingItsFirstFrame) {
+  const CommandResult enc = encode({"--PMeshMode=d3dmc", "--GOMSize=2"});  // GOMs at 1, 3, 5
+  ASSERT_EQ(enc.exitCode, 0) << enc.err;
+  test::writeText(dir_.file("enc.log"), enc.out);
+  const CommandResult dec = decode(
+      {"-i", "seq.3dvo", "-o", "out", "--FirstFrame=4", "--FrameCount=2", "--verify", "enc.log"});
+  ASSERT_EQ(dec.exitCode, 0) << dec.err;
+  const std::vector<std::string> all = test::linesStartingWith(enc.out, "MD5 ");
+  EXPECT_EQ(test::linesStartingWith(dec.out, "MD5 "),
+            (std::vector<std::string>{all[3], all[4]}));  // frames 4 and 5
+  EXPECT_EQ(test::listFolder(dir_.path() / "out"),
+            (std::vector<std::string>{"0004.obj", "0005.obj", "gom_starts.txt"}));
+  EXPECT_EQ(readGomStarts(dir_.file("out/gom_starts.txt")), (std::vector<int>{5}));
+  // The same frames as a whole decode gives, also renumbered; FrameCount 0 runs to the end.
+  ASSERT_EQ(decode({"-i", "seq.3dvo", "-o", "whole"}).exitCode, 0);
+  EXPECT_EQ(test::readText(dir_.file("out/0004.obj")), test::readText(dir_.file("whole/0004.obj")));
+  const CommandResult tail =
+      decode({"-i", "seq.3dvo", "-o", "tail", "--FirstFrame=6", "--RenumberFrames"});
+  ASSERT_EQ(tail.exitCode, 0) << tail.err;
+  EXPECT_EQ(test::listFolder(dir_.path() / "tail"),
+            (std::vector<std::string>{"0000.obj", "gom_starts.txt"}));
+  EXPECT_EQ(test::readText(dir_.file("tail/0000.obj")),
+            test::readText(dir_.file("whole/0006.obj")));
+  expectFailure(kDecoder, {"-i", "seq.3dvo", "--FirstFrame=0"},
+                {"FirstFrame 0 is not in the stream (the stream's frames are 1 .. 6)"});
 }
 
 TEST_F(AppsTest, HelpListsTheKeys) {

@@ -546,12 +546,14 @@ TEST(Syntax, SequenceHeaderRoundTrip) {
   sh.sh_grid_origin[1] = 1.0 / 3.0;
   sh.sh_grid_origin[2] = 1e6;
   sh.sh_grid_step = 0.000123;
+  sh.sh_first_frame = 1000000000;
   const std::vector<uint8_t> bytes = write(sh);
-  EXPECT_EQ(bytes.size(), 2u + 4 + 8 + 1 + 3 * 8 + 8 + 2);  // ... + sh_num_cameras
+  EXPECT_EQ(bytes.size(), 2u + 4 + 4 + 8 + 1 + 3 * 8 + 8 + 2);  // ... + sh_num_cameras
   EXPECT_EQ(bytes[0], kSyntaxVersion & 0xFF);
-  EXPECT_EQ(bytes[14], 17);  // sh_grid_bits after version, frame count and frame rate
+  EXPECT_EQ(bytes[18], 17);  // sh_grid_bits after version, first frame, frame count and rate
   const SequenceHeader back = read<SequenceHeader>(bytes);
   EXPECT_EQ(back.sh_syntax_version, kSyntaxVersion);
+  EXPECT_EQ(back.sh_first_frame, 1000000000u);
   EXPECT_EQ(back.sh_frame_count, 48u);
   EXPECT_EQ(back.sh_frame_rate, 29.97);
   EXPECT_EQ(back.sh_grid_bits, 17);
@@ -624,24 +626,26 @@ std::vector<uint8_t> le64(double v) {
 
 TEST(Syntax, SequenceHeaderLimits) {
   const std::string at = "s.3dvo: unit 1, byte ";
-  EXPECT_EQ(sequenceHeaderError(0, {2, 0}),
-            at + "102: sh_syntax_version 2 is not supported (this decoder reads version " +
+  EXPECT_EQ(sequenceHeaderError(0, {1, 0}),
+            at + "102: sh_syntax_version 1 is not supported (this decoder reads version " +
                 std::to_string(kSyntaxVersion) + ")");
-  EXPECT_EQ(sequenceHeaderError(2, {0, 0, 0, 0}),
-            at + "102: sh_frame_count = 0 out of range [1, " + std::to_string(kMaxFrames) + "]");
+  EXPECT_EQ(sequenceHeaderError(2, {0x01, 0xCA, 0x9A, 0x3B}),  // 10^9 + 1
+            at + "102: sh_first_frame = 1000000001 out of range [0, 1000000000]");
+  EXPECT_EQ(sequenceHeaderError(6, {0, 0, 0, 0}),
+            at + "106: sh_frame_count = 0 out of range [1, " + std::to_string(kMaxFrames) + "]");
   EXPECT_EQ(
-      sequenceHeaderError(2, {0xFF, 0xFF, 0xFF, 0xFF}),
-      at + "102: sh_frame_count = 4294967295 out of range [1, " + std::to_string(kMaxFrames) + "]");
+      sequenceHeaderError(6, {0xFF, 0xFF, 0xFF, 0xFF}),
+      at + "106: sh_frame_count = 4294967295 out of range [1, " + std::to_string(kMaxFrames) + "]");
   for (double rate : {0.0, -25.0, 1000.5, std::nan(""), HUGE_VAL})
-    EXPECT_EQ(sequenceHeaderError(6, le64(rate)), at + "114: sh_frame_rate must be in (0, 1000]")
+    EXPECT_EQ(sequenceHeaderError(10, le64(rate)), at + "118: sh_frame_rate must be in (0, 1000]")
         << rate;
-  EXPECT_EQ(sequenceHeaderError(14, {7}), at + "114: sh_grid_bits = 7 out of range [8, 20]");
-  EXPECT_EQ(sequenceHeaderError(14, {21}), at + "114: sh_grid_bits = 21 out of range [8, 20]");
-  EXPECT_EQ(sequenceHeaderError(23, le64(std::nan(""))), at + "147: sh_grid_origin must be finite");
-  EXPECT_EQ(sequenceHeaderError(31, le64(-HUGE_VAL)), at + "147: sh_grid_origin must be finite");
+  EXPECT_EQ(sequenceHeaderError(18, {7}), at + "118: sh_grid_bits = 7 out of range [8, 20]");
+  EXPECT_EQ(sequenceHeaderError(18, {21}), at + "118: sh_grid_bits = 21 out of range [8, 20]");
+  EXPECT_EQ(sequenceHeaderError(27, le64(std::nan(""))), at + "151: sh_grid_origin must be finite");
+  EXPECT_EQ(sequenceHeaderError(35, le64(-HUGE_VAL)), at + "151: sh_grid_origin must be finite");
   for (double step : {0.0, -1.0, std::nan(""), HUGE_VAL})
-    EXPECT_EQ(sequenceHeaderError(39, le64(step)),
-              at + "147: sh_grid_step must be finite and positive")
+    EXPECT_EQ(sequenceHeaderError(43, le64(step)),
+              at + "151: sh_grid_step must be finite and positive")
         << step;
 }
 
@@ -678,10 +682,10 @@ TEST(Syntax, SequenceHeaderTruncatedAtEveryLength) {
   const struct {
     const char* name;
     size_t start, size;
-  } layout[] = {{"sh_syntax_version", 0, 2}, {"sh_frame_count", 2, 4},
-                {"sh_frame_rate", 6, 8},     {"sh_grid_bits", 14, 1},
-                {"sh_grid_origin_x", 15, 8}, {"sh_grid_origin_y", 23, 8},
-                {"sh_grid_origin_z", 31, 8}, {"sh_grid_step", 39, 8}};
+  } layout[] = {
+      {"sh_syntax_version", 0, 2}, {"sh_first_frame", 2, 4},    {"sh_frame_count", 6, 4},
+      {"sh_frame_rate", 10, 8},    {"sh_grid_bits", 18, 1},     {"sh_grid_origin_x", 19, 8},
+      {"sh_grid_origin_y", 27, 8}, {"sh_grid_origin_z", 35, 8}, {"sh_grid_step", 43, 8}};
   for (size_t length = 0; length < bytes.size(); ++length) {
     const std::vector<uint8_t> cut(bytes.begin(), bytes.begin() + length);
     const std::string message = errorOf([&] { read<SequenceHeader>(cut); });
@@ -694,6 +698,58 @@ TEST(Syntax, SequenceHeaderTruncatedAtEveryLength) {
         break;
       }
   }
+}
+
+// The input dataset's fields travel with the cameras (issue 17.3): names, description, up.
+TEST(Syntax, SequenceHeaderCarriesTheDatasetFields) {
+  SequenceHeader sh = validSequenceHeader();
+  sh.cameras.resize(2);
+  for (CameraParameters& c : sh.cameras)
+    c.cam_width = c.cam_height = 64;
+  sh.cameras[0].cam_name = "left \xC3\xA9";  // UTF-8
+  sh.cameras[1].cam_name = "right";
+  sh.sh_description = "two cameras";
+  sh.sh_up_present = 1;
+  sh.sh_up[0] = 0;
+  sh.sh_up[1] = 0;
+  sh.sh_up[2] = -1;
+  const SequenceHeader back = read<SequenceHeader>(write(sh));
+  ASSERT_EQ(back.cameras.size(), 2u);
+  EXPECT_EQ(back.cameras[0].cam_name, "left \xC3\xA9");
+  EXPECT_EQ(back.cameras[1].cam_name, "right");
+  EXPECT_EQ(back.sh_description, "two cameras");
+  EXPECT_EQ(back.sh_up_present, 1);
+  EXPECT_EQ(back.sh_up[2], -1.0);
+  sh.sh_up_present = 0;
+  EXPECT_EQ(read<SequenceHeader>(write(sh)).sh_up_present, 0);
+
+  // What the writer refuses and a decoder too: an empty name, two cameras of one name, text
+  // that is not UTF-8 (or holds NUL), a zero up.
+  SequenceHeader same = sh;
+  same.cameras[1].cam_name = same.cameras[0].cam_name;
+  EXPECT_THROW(write(same), std::logic_error);
+  for (const std::string& text : {std::string("a\xFF"), std::string("a\0b", 3),
+                                  std::string("\xC0\x80"), std::string("\xED\xA0\x80")}) {
+    SequenceHeader invalid = sh;
+    invalid.sh_description = text;
+    EXPECT_THROW(write(invalid), std::logic_error);
+  }
+  // The reader checks the same: patch the bytes of a valid header.
+  std::vector<uint8_t> bytes = write(sh);
+  const size_t nameAt = 53 + 2;  // the first camera's cam_name bytes
+  ASSERT_EQ(bytes[nameAt], 'l');
+  bytes[nameAt] = 0xFF;
+  const std::string badText = errorOf([&] { read<SequenceHeader>(bytes); });
+  EXPECT_NE(badText.find("cam_name must be UTF-8 text without NUL bytes"), std::string::npos)
+      << badText;
+  bytes = write(sh);
+  bytes[nameAt - 2] = 0;  // cam_name_length 0
+  const std::string empty = errorOf([&] { read<SequenceHeader>(bytes); });
+  EXPECT_NE(empty.find("cam_name_length = 0 out of range [1, 255]"), std::string::npos) << empty;
+  SequenceHeader zeroUp = sh;
+  zeroUp.sh_up_present = 1;
+  zeroUp.sh_up[2] = 0;
+  EXPECT_THROW(write(zeroUp), std::logic_error);
 }
 
 TEST(Syntax, WriterChecksTheSameLimits) {

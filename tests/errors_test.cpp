@@ -161,8 +161,8 @@ void putF64(std::vector<uint8_t>& p, size_t at, double v) {
 }
 
 // Byte offsets of fields in the payloads (docs/bitstream.md, sections 2 and 3).
-constexpr size_t kShVersion = 0, kShFrameCount = 2, kShFrameRate = 6, kShGridBits = 14,
-                 kShOrigin = 15, kShStep = 39;
+constexpr size_t kShVersion = 0, kShFirstFrame = 2, kShFrameCount = 6, kShFrameRate = 10,
+                 kShGridBits = 18, kShOrigin = 19, kShStep = 43;
 constexpr size_t kGhFirstFrame = 0, kGhFrameCount = 4, kGhMode = 6, kGhQuantStep = 7, kGhDepth = 9,
                  kGhNumKeyframes = 10, kGhDelta = 12;
 
@@ -457,6 +457,19 @@ class ErrorsTest : public testing::Test {
     expectRow(id, "3dvo-enc", args);
   }
 
+  // A copy of the conformance rig in rig/ with `from` replaced by `to` in its dataset.json,
+  // coded (one frame, textures) against row `id`.
+  void expectRigRow(const std::string& id, const std::string& from, const std::string& to) {
+    const std::string rig = dir_.file("rig");
+    std::filesystem::copy(std::string(TDVO_SOURCE_DIR) + "/conformance/inputs/rig", rig,
+                          std::filesystem::copy_options::recursive);
+    std::string json = test::readText(rig + "/dataset.json");
+    ASSERT_NE(json.find(from), std::string::npos);
+    json.replace(json.find(from), from.size(), to);
+    test::writeText(rig + "/dataset.json", json);
+    expectRow(id, "3dvo-enc", {"--Dataset=rig", "--FrameCount=1", "-o", "out/x.3dvo"});
+  }
+
   TempDir dir_{"errors"};
 };
 
@@ -579,7 +592,7 @@ CATALOGUE_TEST(S12) {
 // ---- Sequence header ----
 
 CATALOGUE_TEST(H01) {
-  for (uint16_t version : {uint16_t{0}, uint16_t{2}, uint16_t{65535}}) {
+  for (uint16_t version : {uint16_t{0}, uint16_t{1}, uint16_t{65535}}) {
     std::vector<Unit> units = baseUnits();
     putU16(units[0].payload, kShVersion, version);
     expectUnitsRow("H01", units);
@@ -646,6 +659,12 @@ CATALOGUE_TEST(H10) {
   std::vector<Unit> units = baseUnits();
   units[0].payload.push_back(0);
   expectUnitsRow("H10", units);
+}
+
+CATALOGUE_TEST(H11) {
+  std::vector<Unit> units = baseUnits();
+  putU32(units[0].payload, kShFirstFrame, 1000000001);
+  expectUnitsRow("H11", units);
 }
 
 // ---- GOM header ----
@@ -995,6 +1014,14 @@ CATALOGUE_TEST(D05) {
 CATALOGUE_TEST(D06) {
   test::writeBytes(dir_.file("x.3dvo"), baseStream());
   expectRow("D06", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--verify", "/dev/zero"});
+CATALOGUE_TEST(D08) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  expectRow("D08", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--FirstFrame=6"});
+}
+
+CATALOGUE_TEST(D07) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  expectRow("D07", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--FirstFrame=4", "--FrameCount=3"});
 }
 
 // ---- OBJ input (3dvo-enc) ----
@@ -1245,6 +1272,32 @@ CATALOGUE_TEST(C30) {
   args.push_back("/dev/zero");
   expectRow("C30", "3dvo-enc", args);
   expectCfgRow("C30", "GOMListFile : /dev/zero\n");
+CATALOGUE_TEST(C35) {
+  // FrameCount not set and not even the first frame's file: nothing to code.
+  expectRow("C35", "3dvo-enc",
+            {"--InputMeshPattern=in/%03d.obj", "--GridBits=10", "-o", "out/x.3dvo"});
+}
+
+CATALOGUE_TEST(C31) {
+  // Geometry frame 6 with the textures of a dataset of frames 0 .. 5.
+  writeInput("", 7);
+  expectRow("C31", "3dvo-enc",
+            {"--InputMeshPattern=in/%03d.obj", "--FirstFrame=6", "--FrameCount=1",
+             "--Dataset=" + std::string(TDVO_SOURCE_DIR) + "/conformance/inputs/rig",
+             "--GridBits=10", "-o", "out/x.3dvo"});
+}
+
+CATALOGUE_TEST(C32) {
+  // A dataset at 2000 frames per second, more than a stream carries, and no FrameRate.
+  expectRigRow("C32", "\"rate\": 25.0", "\"rate\": 2000");
+}
+
+CATALOGUE_TEST(C33) {
+  expectRigRow("C33", "\"description\": \"", "\"description\": \"" + std::string(4097, 'x'));
+}
+
+CATALOGUE_TEST(C34) {
+  expectRigRow("C34", "\"name\": \"cam01\"", "\"name\": \"" + std::string(256, 'c') + "\"");
 }
 
 // ---- Calibration (dataset.json) and images (3dvo-import) ----

@@ -151,10 +151,11 @@ TEST(ReconTvmc, TrackingGivesConstantConnectivityGomsWithinOnePercent) {
     ASSERT_EQ(result.frames.size(), 10u);
     frames += result.frames.size();
     goms += result.goms.size();
+    // The output files carry the input files' numbers (from s.first).
     for (const auto& [first, count] : result.goms) {
-      const Mesh i = readObj(params.output + "/" + framePath("%04d.obj", first));
+      const Mesh i = readObj(params.output + "/" + framePath("%04d.obj", s.first + first));
       for (int f = first; f < first + count; ++f) {
-        const Mesh out = readObj(params.output + "/" + framePath("%04d.obj", f));
+        const Mesh out = readObj(params.output + "/" + framePath("%04d.obj", s.first + f));
         EXPECT_EQ(out.triangles, i.triangles) << s.name << " frame " << f;
         // Against the input frame as published (before welding its seams).
         const Mesh input = readObj(framePath(pattern, s.first + f));

@@ -69,10 +69,10 @@ TEST_P(RoundTripTest, EncoderAndDecoderAgree) {
   } else {
     EXPECT_GT(r.coded.pMeshBytes, 0u);
   }
-  // Magic, sequence header (49 bytes without cameras) and one GOM header per GOM (7 bytes
+  // Magic, sequence header (53 bytes without cameras) and one GOM header per GOM (7 bytes
   // when intra).
   if (c.mode == PMeshMode::kIntra) {
-    EXPECT_EQ(r.coded.headerBytes, 4 + kUnitOverhead * (1 + goms) + 49 + goms * 7);
+    EXPECT_EQ(r.coded.headerBytes, 4 + kUnitOverhead * (1 + goms) + 53 + goms * 7);
   }
 }
 

@@ -230,6 +230,13 @@ TEST(TextureMetricsApp, DecodedStreamsFromTheRig) {
     ok("3dvo-dec", {"-i", run + ".3dvo", "-o", run});
     ok("3dvo-metrics", {"--ReferenceDataset=rig", "--TestDataset=" + run,
                         "--Bitstream=" + run + ".3dvo", "--CsvFile=" + run + ".csv"});
+    // The decoded dataset.json holds the texture boxes: no Bitstream needed (issue 17.3).
+    const auto own = ok("3dvo-metrics", {"--ReferenceDataset=rig", "--TestDataset=" + run,
+                                         "--CsvFile=" + run + "-own.csv"});
+    EXPECT_EQ(test::readText(dir.file(run + "-own.csv")), test::readText(dir.file(run + ".csv")));
+    EXPECT_NE(own.out.find("the texture box of each camera, from " + run + "/dataset.json"),
+              std::string::npos)
+        << own.out;
     const auto rows = readCsv(dir.file(run + ".csv"));
     ASSERT_EQ(rows.size(), 3u * 2u + 2u + 1u);
     totals[run] = rows.back();

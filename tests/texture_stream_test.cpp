@@ -76,11 +76,14 @@ TEST_F(TextureApps, InputMeshPatternGivesTheTextureBoxesTheirFrames) {
   ASSERT_EQ(b.exitCode, 0) << b.err;
   EXPECT_EQ(test::readBytes(dir.file("a.3dvo")), test::readBytes(dir.file("b.3dvo")));
   EXPECT_EQ(test::linesStartingWith(b.out, "MD5 "), test::linesStartingWith(a.out, "MD5 "));
-  // Too few dataset frames for FrameCount is an error also with a pattern.
+  // A geometry frame without a dataset frame is an error also with a pattern, naming both.
   const auto c =
       encode({"--InputMeshPattern=" + kRig + "/meshes/%04d.obj", "--FirstFrame=1"}, "c.3dvo");
   EXPECT_EQ(c.exitCode, 1);
-  EXPECT_NE(c.err.find("but the dataset has 6 frames"), std::string::npos) << c.err;
+  EXPECT_NE(c.err.find("meshes/0006.obj: geometry frame 6 has no texture frame in " + kRig +
+                       "/dataset.json (its frames are 0 .. 5"),
+            std::string::npos)
+      << c.err;
   EXPECT_FALSE(fs::exists(dir.file("c.3dvo")));
 }
 TEST_F(TextureApps, ExtractedAnnexBDecodesWithTheFfmpegToolToTheSamePictures) {
@@ -158,6 +161,143 @@ TEST_F(TextureApps, BadCameraInputGivesOneClearError) {
   EXPECT_EQ(r.exitCode, 1);
   EXPECT_NE(r.err.find("broken.avi"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir.file("x.3dvo")));
+}
+
+// Issue 17.3: every field of the input dataset.json comes back, except what the stream changes
+// by design: the file names (decoded meshes and RGBA images whose alpha is the shape, so no
+// masks, no backgrounds and no videos) and the texture boxes, which are added.
+TEST_F(TextureApps, DecodedDatasetIsTheInputDatasetWithTheDecodedFiles) {
+  const std::string rig = copyRig(dir);
+  Dataset input = readDataset(rig);
+  input.description = "a \"quoted\" description, caf\xC3\xA9";
+  input.cameras[1].camera.name = "left camera";
+  input.up = Vec3d{0.0, 0.0, -1.0};
+  input.frameRate = 29.97;  // FrameRate not set: the dataset's
+  writeDataset(input, rig);
+  input = readDataset(rig);
+  const auto e = encode({"--Dataset=" + rig, "--FrameCount=4", "--FirstFrame=1"}, "s.3dvo");
+  ASSERT_EQ(e.exitCode, 0) << e.err;
+  const auto d = test::run(dir, kBin + "/3dvo-dec", {"-i", "s.3dvo", "-o", "out"});
+  ASSERT_EQ(d.exitCode, 0) << d.err;
+  const Dataset decoded = readDataset(dir.file("out"));
+  EXPECT_NO_THROW(validateDatasetFiles(decoded));
+
+  Dataset expected = input;
+  expected.folder = dir.file("out");
+  expected.firstFrame = 1;  // the coded frames: 1 .. 4
+  expected.frameCount = 4;
+  expected.meshes = "%04d.obj";
+  ASSERT_EQ(decoded.cameras.size(), expected.cameras.size());
+  for (size_t c = 0; c < expected.cameras.size(); ++c) {
+    DatasetCamera& dc = expected.cameras[c];
+    dc.images = "cam" + std::to_string(c) + "/%04d.png";
+    dc.masks.clear();
+    dc.background.clear();
+    dc.alphaMask = true;
+    ASSERT_TRUE(decoded.cameras[c].textureBox.has_value()) << c;
+    dc.textureBox = decoded.cameras[c].textureBox;
+    const std::array<int, 4> box = *dc.textureBox;
+    EXPECT_EQ(box[0] % 16 + box[1] % 16 + box[2] % 16 + box[3] % 16, 0) << c;
+  }
+  EXPECT_EQ(test::readText(dir.file("out/dataset.json")), formatDataset(expected, dir.file("out")));
+  EXPECT_EQ(decoded.cameras[1].camera.name, "left camera");
+  EXPECT_EQ(decoded.description, input.description);
+  // The decoded files carry the input's frame numbers, as the dataset says.
+  EXPECT_TRUE(fs::exists(dir.file("out/0001.obj")));
+  EXPECT_TRUE(fs::exists(dir.file("out/cam2/0004.png")));
+  EXPECT_FALSE(fs::exists(dir.file("out/0000.obj")));
+}
+
+// Tools that read decoded folders follow the frame numbers: the player export of a stream
+// coded from frame 1 (GOMs at frames 1 and 3) seeks to its exported frames 0 and 2.
+TEST_F(TextureApps, PlayerExportReadsTheDecodedGomStartsAsFrameNumbers) {
+  const auto e = encode({"--FirstFrame=1", "--FrameCount=4", "--GOMSize=2"}, "s.3dvo");
+  ASSERT_EQ(e.exitCode, 0) << e.err;
+  ASSERT_EQ(test::run(dir, kBin + "/3dvo-dec", {"-i", "s.3dvo", "-o", "out"}).exitCode, 0);
+  const auto r =
+      test::run(dir, kBin + "/3dvo-render", {"-i", "out", "--Mode=export", "-o", "player"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::string scene = test::readText(dir.file("player/scene.json"));
+  const size_t at = scene.find("\"gomStarts\"");
+  ASSERT_NE(at, std::string::npos) << scene;
+  std::string starts;
+  for (size_t i = scene.find('[', at); i < scene.size() && scene[i] != ']'; ++i)
+    if (scene[i] != ' ' && scene[i] != '\n') starts += scene[i];
+  EXPECT_EQ(starts, "[0,2");
+}
+
+// Issue 17.8: a decoder frame range with textures starts at the GOM's IDR pictures (GOMs at
+// 0, 2, 4: frames 3 .. 4 decode from the GOM at 2) and gives the encoder's pictures.
+TEST_F(TextureApps, DecoderFrameRangeDecodesTexturesFromTheGomStart) {
+  const auto e = encode({"--GOMSize=2"}, "s.3dvo");
+  ASSERT_EQ(e.exitCode, 0) << e.err;
+  test::writeText(dir.file("enc.log"), e.out);
+  const auto d = test::run(dir, kBin + "/3dvo-dec",
+                           {"-i", "s.3dvo", "-o", "out", "--FirstFrame=3", "--FrameCount=2",
+                            "--verify", "enc.log", "--Threads=2"});
+  ASSERT_EQ(d.exitCode, 0) << d.err;
+  EXPECT_EQ(textureLines(d.out).size(), 2u * 3u);
+  EXPECT_TRUE(fs::exists(dir.file("out/cam2/0004.png")));
+  EXPECT_FALSE(fs::exists(dir.file("out/cam2/0002.png")));
+  const Dataset decoded = readDataset(dir.file("out"));
+  EXPECT_EQ(decoded.firstFrame, 3);
+  EXPECT_EQ(decoded.frameCount, 2);
+  EXPECT_NO_THROW(validateDatasetFiles(decoded));
+}
+
+// Issue 17.5: geometry and texture frames are tied by frame number. A dataset holding the rig's
+// frames 2 .. 4 under their own numbers (frames.first 2, the same files) codes to the same stream
+// as the rig's frames 2 .. 4 picked by FirstFrame, and with no FirstFrame or FrameCount it
+// starts at its first frame and takes all three.
+TEST_F(TextureApps, GeometryAndTexturesAreTiedByFrameNumber) {
+  const std::string part = copyRig(dir);
+  std::string json = test::readText(part + "/dataset.json");
+  const std::string frames = "\"frames\": {\"first\": 0, \"count\": 6";
+  ASSERT_NE(json.find(frames), std::string::npos);
+  json.replace(json.find(frames), frames.size(), "\"frames\": {\"first\": 2, \"count\": 3");
+  test::writeText(part + "/dataset.json", json);
+  const auto whole = test::run(dir, kBin + "/3dvo-enc",
+                               {"--Dataset=" + kRig, "--FirstFrame=2", "--FrameCount=3",
+                                "--GOMSize=3", "--TexturePreset=fast", "-o", "whole.3dvo"});
+  ASSERT_EQ(whole.exitCode, 0) << whole.err;
+  const auto numbered =
+      test::run(dir, kBin + "/3dvo-enc",
+                {"--Dataset=" + part, "--GOMSize=3", "--TexturePreset=fast", "-o", "part.3dvo"});
+  ASSERT_EQ(numbered.exitCode, 0) << numbered.err;
+  EXPECT_EQ(test::readBytes(dir.file("part.3dvo")), test::readBytes(dir.file("whole.3dvo")));
+  EXPECT_EQ(test::linesStartingWith(numbered.out, "MD5 "),
+            test::linesStartingWith(whole.out, "MD5 "));
+  EXPECT_EQ(test::linesStartingWith(numbered.out, "MD5 ").front().rfind("MD5 frame=2 ", 0), 0u);
+  // A geometry frame outside the dataset's frames is an error naming both.
+  const auto outside =
+      test::run(dir, kBin + "/3dvo-enc",
+                {"--Dataset=" + part, "--FirstFrame=0", "--FrameCount=3",
+                 "--InputMeshPattern=" + kRig + "/meshes/%04d.obj", "-o", "x.3dvo"});
+  EXPECT_EQ(outside.exitCode, 1);
+  EXPECT_NE(outside.err.find("meshes/0000.obj: geometry frame 0 has no texture frame in " + part +
+                             "/dataset.json (its frames are 2 .. 4"),
+            std::string::npos)
+      << outside.err;
+  EXPECT_FALSE(fs::exists(dir.file("x.3dvo")));
+}
+
+// Issue 17.5, as a user met it: 3dvo-recon from frame 2, then its encode.cfg with the dataset.
+// The reconstruction's files and encode.cfg carry the dataset's frame numbers, so the encoder
+// codes the camera images of frame 2 with the geometry of frame 2.
+TEST_F(TextureApps, ReconstructionFromALaterFrameEncodesWithItsOwnTextures) {
+  const auto recon = test::run(dir, kBin + "/3dvo-recon",
+                               {"-i", kRig, "--FirstFrame=2", "--FrameCount=1", "-o", "rec"});
+  ASSERT_EQ(recon.exitCode, 0) << recon.err;
+  EXPECT_TRUE(fs::exists(dir.file("rec/0002.obj")));
+  EXPECT_NE(test::readText(dir.file("rec/encode.cfg")).find("FirstFrame       : 2\n"),
+            std::string::npos);
+  const auto e = test::run(dir, kBin + "/3dvo-enc",
+                           {"-c", dir.file("rec/encode.cfg"), "--Dataset=" + kRig,
+                            "--TexturePreset=fast", "-o", "r.3dvo"});
+  ASSERT_EQ(e.exitCode, 0) << e.err;
+  const std::vector<std::string> lines = textureLines(e.out);
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(lines[0].rfind("MD5 frame=2 texture cam=0 ", 0), 0u) << lines[0];
 }
 
 }  // namespace

@@ -126,16 +126,29 @@ int runTextureMetrics(const TextureMetricsParams& p) {
                                  " have only " + std::to_string(available));
 
   // The frame region: each camera's texture box (clipped to the frame) or the whole frame.
+  // The boxes come from the stream (Bitstream), else from the test dataset's textureBox fields
+  // (3dvo-dec writes them), else the region is the whole frame.
   std::vector<TextureBox> boxes;
+  std::string boxSource;
+  bool datasetBoxes = true;
+  for (const DatasetCamera& c : test.cameras)
+    datasetBoxes = datasetBoxes && c.textureBox.has_value();
   if (!p.bitstream.empty()) {
     boxes = streamBoxes(p.bitstream);
     check(boxes.size() == cameras, p.bitstream + ": has " + std::to_string(boxes.size()) +
                                        " cameras, " + testName + " " + std::to_string(cameras));
+    boxSource = p.bitstream;
+  } else if (datasetBoxes) {
+    for (const DatasetCamera& c : test.cameras) {
+      const std::array<int, 4>& b = *c.textureBox;
+      boxes.push_back({b[0], b[1], b[2], b[3]});
+    }
+    boxSource = testName;
   } else {
     for (const DatasetCamera& c : test.cameras)
       boxes.push_back({0, 0, c.camera.width, c.camera.height});
   }
-  const std::string region = p.bitstream.empty() ? "frame" : "box";
+  const std::string region = boxSource.empty() ? "frame" : "box";
 
   std::vector<CameraFrames> referenceFrames, testFrames;
   for (size_t c = 0; c < cameras; ++c) {
@@ -151,11 +164,11 @@ int runTextureMetrics(const TextureMetricsParams& p) {
   std::printf("cameras             : %zu\n", cameras);
   std::printf("colour              : BT.601 Y'CbCr, limited range, per pixel from RGB\n");
   std::printf("object              : test pixels with alpha 255 (the decoded shape)\n");
-  if (p.bitstream.empty())
+  if (boxSource.empty())
     std::printf("frame region        : the whole camera frame\n");
   else
     std::printf("frame region        : the texture box of each camera, from %s\n",
-                p.bitstream.c_str());
+                boxSource.c_str());
   std::printf("# per frame and camera: PSNR in dB; obj = inside the shape, frm = frame region\n");
   std::printf("%6s %6s %6s %4s %8s %8s %8s %8s %8s %8s %8s %8s\n", "frame", "ref", "test", "cam",
               "obj_px", "obj_Y", "obj_Cb", "obj_Cr", "obj_YUV", "frm_px", "frm_Y", "frm_YUV");
@@ -221,7 +234,7 @@ int runTextureMetrics(const TextureMetricsParams& p) {
   line("object YUV-PSNR", total.object.yuvPsnr());
   std::printf("%-22s: %llu (%s)\n", "frame pixels",
               static_cast<unsigned long long>(total.region.pixels),
-              p.bitstream.empty() ? "whole frames" : "texture boxes");
+              boxSource.empty() ? "whole frames" : "texture boxes");
   line("frame Y-PSNR", total.region.psnr(0));
   line("frame YUV-PSNR", total.region.yuvPsnr());
   if (!p.csvFile.empty()) std::printf("%-22s: %s\n", "csv", p.csvFile.c_str());

@@ -59,8 +59,9 @@ def read_gom_list(path):
 
 
 def check_starts_at_frame_zero(path, frames):
-    """3dvo-recon numbers its output frames from 0; `source` is the dataset frame each came
-    from. The meshes pattern maps dataset frame n to file n, so the two must agree."""
+    """3dvo-recon names its output files with the dataset's frame numbers and writes `source`,
+    the dataset frame each came from; this script copies files 0 .. N-1, so the reconstruction
+    must start at frame 0 (frame and source agree)."""
     try:
         with open(path, encoding="utf-8", newline="") as f:
             rows = list(csv.DictReader(f))
@@ -93,7 +94,7 @@ def main():
     except (OSError, ValueError) as e:
         fail("%s: cannot read (%s)" % (name, e))
     if dataset.get("frames", {}).get("first", 0) != 0:
-        fail("%s: frames.first must be 0 (3dvo-recon numbers its frames from 0)" % name)
+        fail("%s: frames.first must be 0 (the recon/ files are numbered from 0)" % name)
 
     goms = read_gom_list(os.path.join(args.recon, "goms.txt"))
     frames = goms[-1][0] + goms[-1][1]

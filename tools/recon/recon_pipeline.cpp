@@ -194,6 +194,10 @@ ReconResult runReconstruction(const ReconParams& params, std::FILE* log) {
                 format(" (files %d .. %d)", params.firstFrame, params.firstFrame + frameCount - 1);
   }
   const double frameRate = dataset ? dataset->frameRate : 25.0;
+  // Output files carry the input's frame numbers (the dataset's frames.first + index, or the
+  // input file numbers), and encode.cfg says FirstFrame = the first: 3dvo-enc --Dataset then
+  // ties each mesh to the camera images of the same frame.
+  const int firstNumber = (dataset ? dataset->firstFrame : 0) + params.firstFrame;
 
   // Output folders; files are staged and renamed together at the end.
   namespace fs = std::filesystem;
@@ -273,13 +277,14 @@ ReconResult runReconstruction(const ReconParams& params, std::FILE* log) {
 
     // Output files.
     const std::string text = formatObj(step.mesh);
-    files.write(out + "/" + framePath(params.outputMeshPattern, i), text);
+    files.write(out + "/" + framePath(params.outputMeshPattern, firstNumber + i), text);
     if (params.writeHull)
-      files.write(out + "/" + framePath("hull/%04d.obj", i), formatObj(recon.hull));
+      files.write(out + "/" + framePath("hull/%04d.obj", firstNumber + i), formatObj(recon.hull));
     if (params.writeSilhouettes)
       for (size_t u = 0; u < result.cameras.size(); ++u) {
         const std::vector<uint8_t> png = encodePng(recon.silhouettes[u]);
-        files.write(out + "/silhouettes/" + result.cameras[u] + "/" + framePath("%04d.png", i),
+        files.write(out + "/silhouettes/" + result.cameras[u] + "/" +
+                        framePath("%04d.png", firstNumber + i),
                     png.data(), png.size());
       }
     record.totalSeconds = secondsSince(frameStart);
@@ -315,13 +320,13 @@ ReconResult runReconstruction(const ReconParams& params, std::FILE* log) {
       "#   3dvo-enc -c cfg/d3dmc-lossless.cfg -c encode.cfg --BitstreamFile=out.3dvo\n";
   // GOMs of different lengths: the encoder takes the list itself (GOMListFile).
   const std::string gomList = fs::absolute(fs::path(out) / "goms.txt").string();
-  files.write(out + "/encode.cfg",
-              encoderCfg(pattern, 0, frameCount, frameRate, uniform ? commonSize : 0, header) +
-                  (uniform ? "" : "GOMListFile      : " + gomList + "\n"));
+  files.write(out + "/encode.cfg", encoderCfg(pattern, firstNumber, frameCount, frameRate,
+                                              uniform ? commonSize : 0, header) +
+                                       (uniform ? "" : "GOMListFile      : " + gomList + "\n"));
   for (size_t g = 0; g < result.goms.size(); ++g)
     files.write(out + "/encode/" + framePath("gom_%04d.cfg", static_cast<int>(g)),
-                encoderCfg(pattern, result.goms[g].first, result.goms[g].second, frameRate,
-                           result.goms[g].second,
+                encoderCfg(pattern, firstNumber + result.goms[g].first, result.goms[g].second,
+                           frameRate, result.goms[g].second,
                            format("# 3dvo-enc input for GOM %zu of this 3dvo-recon output\n", g)));
   std::string csv = std::string(kColumns) + "\n";
   for (const FrameRecord& r : result.frames)

@@ -112,7 +112,8 @@ struct Params {
     t.add("Csv", csv, "Mode=leave-one-out: also write the table as CSV");
     t.add("SaveRenders", saveRenders, "Mode=leave-one-out: write the held-out renders to Output");
     t.add("GomStarts", gomStarts,
-          "Mode=export: file of GOM start frame indices (default: gom_starts.txt beside "
+          "Mode=export: file of GOM start frame numbers (frames.first + index) (default: "
+          "gom_starts.txt beside "
           "dataset.json when present, else every frame)");
   }
 };
@@ -276,9 +277,10 @@ int main(int argc, char** argv) {
         if (fs::is_regular_file(beside, ec)) gomFile = beside;
       }
       if (!gomFile.empty()) {
+        // gom_starts.txt holds frame numbers (3dvo-dec's; frames.first + index).
         for (int start : readGomStarts(gomFile))
           for (size_t k = 0; k < frames.size(); ++k)
-            if (frames[k] == start) e.gomStarts.push_back(static_cast<int>(k));
+            if (d.firstFrame + frames[k] == start) e.gomStarts.push_back(static_cast<int>(k));
         if (e.gomStarts.empty() || e.gomStarts.front() != 0)
           e.gomStarts.insert(e.gomStarts.begin(), 0);  // the first exported frame is a start
       }

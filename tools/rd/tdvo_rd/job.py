@@ -237,7 +237,9 @@ def _geometry_stages(spec, workdir, timeout, config):
     metrics_command = [
         binaries["3dvo-metrics"], "-r", reference["pattern"],
         "--ReferenceFirstFrame=%d" % reference["first_frame"],
-        "-t", os.path.join("decoded", "%04d.obj"), "--TestFirstFrame=0",
+        # The decoded files carry the input's frame numbers (3dvo-dec's default).
+        "-t", os.path.join("decoded", "%04d.obj"),
+        "--TestFirstFrame=%d" % reference["first_frame"],
         "--FrameCount=%d" % reference["frame_count"],
         "--Correspondence=nearest",
         "--GroupStarts=" + os.path.join("decoded", "gom_starts.txt"),

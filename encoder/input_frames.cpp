@@ -1,0 +1,89 @@
+#include "encoder/input_frames.h"
+
+#include <filesystem>
+
+#include "bitstream/syntax.h"
+#include "common/error.h"
+#include "common/sequence.h"
+
+namespace tdvo {
+
+namespace {
+
+std::string datasetName(const Dataset& dataset) {
+  return dataset.resolve(kDatasetFileName);
+}
+
+std::string datasetRange(const Dataset& dataset) {
+  return "its frames are " + std::to_string(dataset.firstFrame) + " .. " +
+         std::to_string(dataset.firstFrame + dataset.frameCount - 1);
+}
+
+bool inDataset(const Dataset& dataset, int64_t frame) {
+  return frame >= dataset.firstFrame && frame < int64_t{dataset.firstFrame} + dataset.frameCount;
+}
+
+}  // namespace
+
+std::string inputMeshPath(const EncoderParams& params, const Dataset* dataset, int frame) {
+  if (!params.inputMeshPattern.empty()) return framePath(params.inputMeshPattern, frame);
+  check(dataset != nullptr, "InputMeshPattern is not set, nor a Dataset with meshes");
+  check(!dataset->meshes.empty(),
+        datasetName(*dataset) + ": the dataset has no meshes; set InputMeshPattern");
+  check(inDataset(*dataset, frame), datasetName(*dataset) + ": frame " + std::to_string(frame) +
+                                        " is not in the dataset (" + datasetRange(*dataset) + ")");
+  return dataset->framePath(dataset->meshes, frame - dataset->firstFrame);
+}
+
+int resolveFrameCount(const EncoderParams& params, const Dataset* dataset, std::string* found) {
+  if (params.frameCount > 0) return params.frameCount;
+  if (dataset) {
+    check(inDataset(*dataset, params.firstFrame),
+          datasetName(*dataset) + ": FirstFrame " + std::to_string(params.firstFrame) +
+              " is not a frame of the dataset (" + datasetRange(*dataset) + ")");
+  }
+  const int first = params.firstFrame;
+  int count = 0;
+  std::string why;
+  for (;; ++count) {
+    const int64_t frame = int64_t{first} + count;
+    if (count == static_cast<int>(kMaxFrames)) {
+      why = "the most a stream can hold";
+      break;
+    }
+    if (dataset && !inDataset(*dataset, frame)) {
+      why = "the last frame of " + datasetName(*dataset);
+      break;
+    }
+    const std::string path = inputMeshPath(params, dataset, static_cast<int>(frame));
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) {
+      check(count > 0, path +
+                           ": cannot open: no input frames (FrameCount not set: every frame "
+                           "from FirstFrame " +
+                           std::to_string(first) + " until the first missing file)");
+      why = path + ", which does not exist";
+      break;
+    }
+  }
+  if (found)
+    *found = std::to_string(count) + " frames, " + std::to_string(first) + " .. " +
+             std::to_string(first + count - 1) + " (" + inputMeshPath(params, dataset, first) +
+             " .. " + inputMeshPath(params, dataset, first + count - 1) + "; stopped at " + why +
+             ")";
+  return count;
+}
+
+void checkTextureFrames(const EncoderParams& params, const Dataset& dataset, int count) {
+  for (const int64_t frame : {int64_t{params.firstFrame}, int64_t{params.firstFrame} + count - 1}) {
+    if (inDataset(dataset, frame)) continue;
+    const std::string geometry = params.inputMeshPattern.empty()
+                                     ? "frame " + std::to_string(frame)
+                                     : framePath(params.inputMeshPattern, static_cast<int>(frame));
+    throw Error(geometry + ": geometry frame " + std::to_string(frame) +
+                " has no texture frame in " + datasetName(dataset) + " (" + datasetRange(dataset) +
+                "; geometry and texture frames are tied by frame number)");
+  }
+}
+
+}  // namespace tdvo
