@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -88,10 +89,17 @@ Dataset decodedDataset(const StreamDecoder& decoder, const std::string& folder,
   return d;
 }
 
+// True when folder `a` is folder `b` or inside it (by name).
+bool insideFolder(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  const fs::path relative =
+      fs::path(a + "/").lexically_normal().lexically_relative(fs::path(b + "/").lexically_normal());
+  return !relative.empty() && *relative.begin() != "..";
+}
+
 // Writes each camera's H.264 access units, in order, as one Annex B file DIR/cam<c>.264.
 void extractTextures(const std::string& streamPath, const std::string& name, const std::string& dir,
-                     StagedFiles& outputs) {
-  makeDirectories(dir);
+                     OutputFolder& outputs) {
   std::vector<std::vector<uint8_t>> perCamera;
   UnitFileReader units(streamPath, name);
   UnitView unit;
@@ -114,7 +122,7 @@ void extractTextures(const std::string& streamPath, const std::string& name, con
 int main(int argc, char** argv) {
   return runApp("3dvo-dec", [&]() {
     std::string extractDir, streamPath, outputDir, meshPattern = "%04d.obj", verifyPath;
-    bool trace = false;
+    bool trace = false, overwrite = false;
     int threads = 1;
     int maxVertexFramesPerByte = static_cast<int>(kDefaultMaxVertexFramesPerByte);
     PngEffort pngEffort = PngEffort::kFast;
@@ -135,6 +143,10 @@ int main(int argc, char** argv) {
     table.add("ExtractTextures", extractDir,
               "write each camera's H.264 texture stream to this folder as cam<c>.264 (Annex B)",
               "--extract-textures");
+    table.add("Overwrite", overwrite,
+              "replace the contents of a non-empty OutputDir (and ExtractTextures folder); "
+              "without it such a folder is refused",
+              "--Overwrite");
     table.add("MaxVertexFramesPerByte", maxVertexFramesPerByte, 0, 1 << 30,
               "refuse a stream declaring more decoded vertices x frames than this per stream "
               "byte read (a GOM's frames x its I mesh's vertices, summed; docs/robustness.md); "
@@ -150,19 +162,17 @@ int main(int argc, char** argv) {
 
     std::vector<std::string> expected;
     if (!verifyPath.empty()) expected = readMd5Lines(verifyPath);
-    // A folder this run creates is removed again if the run fails (it is empty then: the
-    // frames are staged and removed on failure).
-    struct CreatedFolder {
-      std::string path;
-      bool keep = false;
-      ~CreatedFolder() {
-        std::error_code ec;
-        if (!keep && !path.empty()) std::filesystem::remove(path, ec);
-      }
-    } createdFolder;
-    if (!outputDir.empty()) {
-      if (!std::filesystem::exists(outputDir)) createdFolder.path = outputDir;
-      makeDirectories(outputDir);
+    // Output folders (docs/user-guide.md): a non-empty one is refused unless --Overwrite is
+    // given; the output is staged inside and put in place when the run has succeeded, so that
+    // the folder then holds exactly this run's output, and a failed run leaves it as it was.
+    const std::vector<std::string> inputs = {streamPath, verifyPath};
+    std::optional<OutputFolder> outputs, extracted;
+    if (!outputDir.empty()) outputs.emplace(outputDir, overwrite, inputs);
+    const bool extractIntoOutput = outputs && insideFolder(extractDir, outputDir);
+    if (!extractDir.empty() && !extractIntoOutput) {
+      check(outputDir.empty() || !insideFolder(outputDir, extractDir),
+            "OutputDir " + outputDir + " must not be inside ExtractTextures " + extractDir);
+      extracted.emplace(extractDir, overwrite, inputs);
     }
 
     // Units are read from the file one at a time and every frame is written (and released) as
@@ -173,7 +183,6 @@ int main(int argc, char** argv) {
     decoder.setMaxVertexFramesPerByte(static_cast<uint64_t>(maxVertexFramesPerByte));
     decoder.setThreads(
         threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency())));
-    StagedFiles outputs;
     uint64_t vertexFrames = 0;
     int frames = 0;
     size_t lines = 0;  // MD5 lines printed so far, compared in order with the log's
@@ -193,7 +202,7 @@ int main(int argc, char** argv) {
         [&](int frame, const IntMesh& mesh) {
           report(geometryHashLine(frame, mesh));
           if (!outputDir.empty())
-            outputs.write(outputDir + "/" + framePath(meshPattern, frame),
+            outputs->write(outputDir + "/" + framePath(meshPattern, frame),
                           formatObj(decoder.grid().dequantise(mesh)));
           vertexFrames += mesh.positions.size();
           frames = frame + 1;
@@ -209,8 +218,7 @@ int main(int argc, char** argv) {
             pngs.erase(made);
           }
           const std::string folder = outputDir + "/" + cameraFolder(camera);
-          makeDirectories(folder);
-          outputs.write(folder + "/" + framePath(imagePattern(meshPattern), frame), png.data(),
+          outputs->write(folder + "/" + framePath(imagePattern(meshPattern), frame), png.data(),
                         png.size());
         },
         // The PNGs are made where the pictures are decoded (on Threads threads), then written
@@ -227,16 +235,17 @@ int main(int argc, char** argv) {
       check(expected.size() == lines, verifyPath + ": has " + std::to_string(expected.size()) +
                                           " MD5 lines, the stream gives " + std::to_string(lines));
     if (!outputDir.empty() && !decoder.sequenceHeader().cameras.empty())
-      outputs.write(
+      outputs->write(
           outputDir + "/" + kDatasetFileName,
           formatDataset(decodedDataset(decoder, outputDir, meshPattern, frames), outputDir));
     // Where each GOM starts: 3dvo-metrics matches vertices there (GroupStarts), the player
     // of 3dvo-render --Mode=export seeks to these frames.
     if (!outputDir.empty())
-      outputs.write(outputDir + "/" + kGomStartsFileName, formatGomStarts(decoder.gomStarts()));
-    if (!extractDir.empty()) extractTextures(streamPath, streamPath, extractDir, outputs);
-    outputs.commit();
-    createdFolder.keep = true;
+      outputs->write(outputDir + "/" + kGomStartsFileName, formatGomStarts(decoder.gomStarts()));
+    if (!extractDir.empty())
+      extractTextures(streamPath, streamPath, extractDir, extracted ? *extracted : *outputs);
+    if (extracted) extracted->commit();
+    if (outputs) outputs->commit();
 
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -48,6 +48,35 @@ int main(int argc, char** argv) {
       };
     }
     source.read = [&source](size_t k) { return readObj(source.name(k)); };
+    auto reconName = [&params](int frame) { return framePath(params.reconMeshPattern, frame); };
+
+    // No output may overwrite an input, under any name (docs/robustness.md): the stream and
+    // the reconstructed frames are compared with the cfg files, the GOM list, the dataset and
+    // the frames to be read, by file identity, before anything is read or written.
+    {
+      InputFiles inputs;
+      for (const std::string& cfg : table.filesRead())
+        inputs.add(cfg);
+      inputs.add(params.gomListFile);
+      for (size_t k = 0; k < source.count; ++k)
+        inputs.add(source.name(k));
+      if (!params.dataset.empty()) {
+        inputs.add(dataset.resolve(kDatasetFileName));
+        for (const DatasetCamera& c : dataset.cameras)
+          for (const std::string* file :
+               {&c.images, &c.video, &c.masks, &c.background, &c.backgroundVideo})
+            for (size_t k = 0; !file->empty() && k < source.count; ++k) {
+              const int frame = params.firstFrame + static_cast<int>(k);
+              if (frame < 0 || frame >= dataset.frameCount) break;  // refused later, clearly
+              inputs.add(dataset.framePath(*file, frame));
+              if (!hasFrameConversion(*file)) break;
+            }
+      }
+      inputs.checkOutput(params.bitstreamFile);
+      if (!params.reconMeshPattern.empty())
+        for (size_t k = 0; k < source.count; ++k)
+          inputs.checkOutput(reconName(static_cast<int>(k)));
+    }
     std::optional<TextureBoxFinder> boxes;
     if (!params.dataset.empty()) boxes.emplace(params, dataset, source.count);
 
@@ -70,8 +99,7 @@ int main(int argc, char** argv) {
           [&](int frame, const IntMesh& recon) {
             std::printf("%s\n", geometryHashLine(frame, recon).c_str());
             if (!params.reconMeshPattern.empty())
-              outputs.write(framePath(params.reconMeshPattern, frame),
-                            formatObj(grid.dequantise(recon)));
+              outputs.write(reconName(frame), formatObj(grid.dequantise(recon)));
             progress.tick(frame + 1);
           },
           textures.get(),
