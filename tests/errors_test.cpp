@@ -12,6 +12,9 @@
 #include <draco/mesh/mesh.h>
 #include <draco/point_cloud/point_cloud.h>
 #include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -917,6 +920,28 @@ CATALOGUE_TEST(D05) {
   expectRow("D05", "3dvo-dec", {"-i", "x.3dvo", "-o", "file/out"});
 }
 
+CATALOGUE_TEST(D06) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  std::filesystem::create_directories(dir_.path() / "out");
+  test::writeText(dir_.file("out/old.obj"), "another run\n");
+  expectRow("D06", "3dvo-dec", {"-i", "x.3dvo", "-o", "out"});
+  EXPECT_EQ(test::readText(dir_.file("out/old.obj")), "another run\n");
+}
+
+CATALOGUE_TEST(D07) {
+  std::filesystem::create_directories(dir_.path() / "out");
+  test::writeBytes(dir_.file("out/x.3dvo"), baseStream());
+  expectRow("D07", "3dvo-dec", {"-i", "out/x.3dvo", "-o", "out", "--Overwrite"});
+  EXPECT_EQ(test::readBytes(dir_.file("out/x.3dvo")), baseStream());
+}
+
+CATALOGUE_TEST(D08) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  test::writeText(dir_.file("file"), "in the way\n");
+  expectRow("D08", "3dvo-dec", {"-i", "x.3dvo", "-o", "file"});
+  EXPECT_EQ(test::readText(dir_.file("file")), "in the way\n");
+}
+
 // ---- OBJ input (3dvo-enc) ----
 
 const std::string kTriangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
@@ -1097,6 +1122,38 @@ CATALOGUE_TEST(C19) {
 
 CATALOGUE_TEST(C20) {
   expectCfgRow("C20", "", {"-o", "no-such-folder/x.3dvo"});
+}
+
+CATALOGUE_TEST(C30) {
+  expectCfgRow("C30", "", {"-o", "./in/../in/000.obj"});
+  EXPECT_EQ(parseObj(test::readText(dir_.file("in/000.obj")), "in/000.obj").positions.size(), 42u);
+}
+
+CATALOGUE_TEST(C31) {
+  expectCfgRow("C31", "GridBits : 10\n", {"-o", "x.cfg"});
+  EXPECT_EQ(test::readText(dir_.file("x.cfg")), "GridBits : 10\n");
+}
+
+CATALOGUE_TEST(C32) {
+  expectCfgRow("C32", "ReconMeshPattern : in/%03d.obj\n");
+}
+
+CATALOGUE_TEST(C33) {
+  expectCfgRow("C33", "", {"-o", "out"});
+}
+
+CATALOGUE_TEST(C34) {
+  const int s = socket(AF_UNIX, SOCK_STREAM, 0);
+  ASSERT_GE(s, 0);
+  sockaddr_un address = {};
+  address.sun_family = AF_UNIX;
+  const std::string path = dir_.file("sock");
+  ASSERT_LT(path.size(), sizeof address.sun_path);
+  std::strcpy(address.sun_path, path.c_str());
+  ASSERT_EQ(bind(s, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
+  expectCfgRow("C34", "", {"-o", "sock"});
+  close(s);
+  EXPECT_TRUE(std::filesystem::is_socket(path));
 }
 
 // GOMListFile rows: the list is goms.txt beside x.cfg (one coded frame unless the cfg says so).
