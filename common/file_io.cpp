@@ -140,11 +140,12 @@ uint64_t writeStaged(const std::string& base, const std::string& shown, const vo
                      size_t size, std::string& staged) {
   uint64_t handle = 0;
   const int fd = createStaged(base, shown, staged, handle);
-  bool ok = writeAll(fd, data, size);
-  const int error = errno;
-  ok = (::close(fd) == 0) && ok;
-  if (!ok) {
-    const std::string why = std::strerror(ok ? errno : error);
+  const bool written = writeAll(fd, data, size);
+  int error = errno;
+  const bool closed = ::close(fd) == 0;
+  if (written && !closed) error = errno;
+  if (!written || !closed) {
+    const std::string why = std::strerror(error);
     const auto lock = InterruptRegistry::lock();
     ::unlink(staged.c_str());
     InterruptRegistry::drop(handle);
@@ -405,10 +406,11 @@ void OutputFolder::write(const std::string& path, const void* data, size_t size)
     fd = ::open(staged.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
     if (fd < 0) throw Error(path + ": cannot create: " + systemError());
   }
-  bool ok = writeAll(fd, data, size);
-  const int error = errno;
-  ok = (::close(fd) == 0) && ok;
-  if (!ok) throw Error(path + ": write error: " + std::strerror(error));
+  const bool written = writeAll(fd, data, size);
+  int error = errno;
+  const bool closed = ::close(fd) == 0;
+  if (written && !closed) error = errno;
+  if (!written || !closed) throw Error(path + ": write error: " + std::strerror(error));
 }
 
 void OutputFolder::commit() {
