@@ -205,6 +205,18 @@ void StagedFiles::write(const std::string& path, const void* data, size_t size) 
   entries_.push_back(std::move(e));
 }
 
+std::string StagedFiles::stage(const std::string& path) {
+  const OutputTarget target = resolveOutput(path);
+  check(!target.special, path + ": is a device or FIFO; this output must be a regular file");
+  entries_.reserve(entries_.size() + 1);
+  Entry e;
+  e.shown = path;
+  e.target = target.path;
+  ::close(createStaged(target.path, path, e.staged, e.handle));
+  entries_.push_back(std::move(e));
+  return entries_.back().staged;
+}
+
 void StagedFiles::rollBack() {
   const auto lock = InterruptRegistry::lock();
   for (auto it = entries_.rbegin(); it != entries_.rend(); ++it) {

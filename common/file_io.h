@@ -48,6 +48,10 @@ class StagedFiles {
   void write(const std::string& path, const std::string& text) {
     write(path, text.data(), text.size());
   }
+  // Stages an empty regular file for `path` (created exclusively, as above) and returns its
+  // name, for a writer that opens files by name (FFmpeg): the caller fills and closes it before
+  // commit(). A device or FIFO is refused here (such a writer seeks).
+  std::string stage(const std::string& path);
   void commit();
 
  private:
