@@ -443,6 +443,18 @@ TEST_F(AppsTest, EncoderWritesIntoACharacterDeviceAndThroughASymlink) {
   EXPECT_GT(std::filesystem::file_size(dir_.file("streams/seq.3dvo")), 100u);
 }
 
+TEST_F(AppsTest, ImportRefusesToOverwriteTheDatasetItReads) {
+  CommandResult r = test::run(dir_, kBin + "/3dvo-synth",
+                              {"-o", "rig", "--Cameras=2", "--FrameCount=1", "--Width=32",
+                               "--Height=24", "--BlobSubdivisions=1"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::string json = test::readText(dir_.file("rig/dataset.json"));
+  std::filesystem::create_symlink("rig", dir_.file("same"));
+  expectFailure(kBin + "/3dvo-import", {"-i", "rig", "-o", "same", "--Up=0,0,1"},
+                {"same/dataset.json: is the input rig/dataset.json (the same file)"});
+  EXPECT_EQ(test::readText(dir_.file("rig/dataset.json")), json);
+}
+
 TEST_F(AppsTest, EveryFolderAppRefusesANonEmptyFolder) {
   // The same rule for every app that writes an output folder: refused when not empty, replaced
   // with --Overwrite, and afterwards the folder holds exactly the run's output.

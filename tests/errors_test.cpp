@@ -1252,6 +1252,13 @@ DATASET_TEST(J01) {
   expectRow("J01", "3dvo-import", {"-i", "x/dataset.json", "--Format=dataset", "-o", "out"});
 }
 
+DATASET_TEST(J21) {
+  writeDataset();
+  const std::string before = test::readText(dir_.file("x/dataset.json"));
+  expectRow("J21", "3dvo-import", {"-i", "x/dataset.json", "--Format=dataset", "-o", "x"});
+  EXPECT_EQ(test::readText(dir_.file("x/dataset.json")), before);
+}
+
 DATASET_TEST(J02) {
   expectDatasetRow("J02", "\"frames\"", "\"frames\" {");
   expectDatasetRow("J02", "[[1", "[[1e999");  // a number beyond double
