@@ -189,8 +189,19 @@ StagedFiles::~StagedFiles() {
     }
 }
 
+void StagedFiles::checkNew(const std::string& path, const std::string& target) {
+  // A second output of one run to the same file would silently replace the first.
+  std::error_code ec;
+  const std::string normal = fs::absolute(target, ec).lexically_normal().string();
+  const auto [it, added] = targets_.emplace(normal, path);
+  if (!added)
+    throw Error(path + ": is also written as " + it->second +
+                " by this run; one output would replace the other");
+}
+
 void StagedFiles::write(const std::string& path, const void* data, size_t size) {
   const OutputTarget target = resolveOutput(path);
+  checkNew(path, target.path);
   entries_.reserve(entries_.size() + 1);  // so that the push_back cannot lose a written file
   Entry e;
   e.shown = path;
@@ -207,6 +218,7 @@ void StagedFiles::write(const std::string& path, const void* data, size_t size) 
 
 std::string StagedFiles::stage(const std::string& path) {
   const OutputTarget target = resolveOutput(path);
+  checkNew(path, target.path);
   check(!target.special, path + ": is a device or FIFO; this output must be a regular file");
   entries_.reserve(entries_.size() + 1);
   Entry e;

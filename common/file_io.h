@@ -68,7 +68,9 @@ class StagedFiles {
     bool renamed = false;       // commit() has moved it to its final name
   };
   void rollBack();
+  void checkNew(const std::string& path, const std::string& target);
   std::vector<Entry> entries_;
+  std::map<std::string, std::string> targets_;  // written file (absolute) -> name given
   bool committed_ = false;
 };
 

@@ -1156,6 +1156,10 @@ CATALOGUE_TEST(C34) {
   EXPECT_TRUE(std::filesystem::is_socket(path));
 }
 
+CATALOGUE_TEST(C35) {
+  expectCfgRow("C35", "ReconMeshPattern : out/r%d.obj\n", {"-o", "out/r0.obj"});
+}
+
 // GOMListFile rows: the list is goms.txt beside x.cfg (one coded frame unless the cfg says so).
 CATALOGUE_TEST(C21) {
   expectCfgRow("C21", "GOMListFile : missing.txt\n");
