@@ -920,25 +920,25 @@ CATALOGUE_TEST(D05) {
   expectRow("D05", "3dvo-dec", {"-i", "x.3dvo", "-o", "file/out"});
 }
 
-CATALOGUE_TEST(D06) {
+CATALOGUE_TEST(D09) {
   test::writeBytes(dir_.file("x.3dvo"), baseStream());
   std::filesystem::create_directories(dir_.path() / "out");
   test::writeText(dir_.file("out/old.obj"), "another run\n");
-  expectRow("D06", "3dvo-dec", {"-i", "x.3dvo", "-o", "out"});
+  expectRow("D09", "3dvo-dec", {"-i", "x.3dvo", "-o", "out"});
   EXPECT_EQ(test::readText(dir_.file("out/old.obj")), "another run\n");
 }
 
-CATALOGUE_TEST(D07) {
+CATALOGUE_TEST(D10) {
   std::filesystem::create_directories(dir_.path() / "out");
   test::writeBytes(dir_.file("out/x.3dvo"), baseStream());
-  expectRow("D07", "3dvo-dec", {"-i", "out/x.3dvo", "-o", "out", "--Overwrite"});
+  expectRow("D10", "3dvo-dec", {"-i", "out/x.3dvo", "-o", "out", "--Overwrite"});
   EXPECT_EQ(test::readBytes(dir_.file("out/x.3dvo")), baseStream());
 }
 
-CATALOGUE_TEST(D08) {
+CATALOGUE_TEST(D11) {
   test::writeBytes(dir_.file("x.3dvo"), baseStream());
   test::writeText(dir_.file("file"), "in the way\n");
-  expectRow("D08", "3dvo-dec", {"-i", "x.3dvo", "-o", "file"});
+  expectRow("D11", "3dvo-dec", {"-i", "x.3dvo", "-o", "file"});
   EXPECT_EQ(test::readText(dir_.file("file")), "in the way\n");
 }
 
@@ -1124,25 +1124,25 @@ CATALOGUE_TEST(C20) {
   expectCfgRow("C20", "", {"-o", "no-such-folder/x.3dvo"});
 }
 
-CATALOGUE_TEST(C30) {
-  expectCfgRow("C30", "", {"-o", "./in/../in/000.obj"});
+CATALOGUE_TEST(C36) {
+  expectCfgRow("C36", "", {"-o", "./in/../in/000.obj"});
   EXPECT_EQ(parseObj(test::readText(dir_.file("in/000.obj")), "in/000.obj").positions.size(), 42u);
 }
 
-CATALOGUE_TEST(C31) {
-  expectCfgRow("C31", "GridBits : 10\n", {"-o", "x.cfg"});
+CATALOGUE_TEST(C37) {
+  expectCfgRow("C37", "GridBits : 10\n", {"-o", "x.cfg"});
   EXPECT_EQ(test::readText(dir_.file("x.cfg")), "GridBits : 10\n");
 }
 
-CATALOGUE_TEST(C32) {
-  expectCfgRow("C32", "ReconMeshPattern : in/%03d.obj\n");
+CATALOGUE_TEST(C38) {
+  expectCfgRow("C38", "ReconMeshPattern : in/%03d.obj\n");
 }
 
-CATALOGUE_TEST(C33) {
-  expectCfgRow("C33", "", {"-o", "out"});
+CATALOGUE_TEST(C39) {
+  expectCfgRow("C39", "", {"-o", "out"});
 }
 
-CATALOGUE_TEST(C34) {
+CATALOGUE_TEST(C40) {
   const int s = socket(AF_UNIX, SOCK_STREAM, 0);
   ASSERT_GE(s, 0);
   sockaddr_un address = {};
@@ -1151,13 +1151,13 @@ CATALOGUE_TEST(C34) {
   ASSERT_LT(path.size(), sizeof address.sun_path);
   std::strcpy(address.sun_path, path.c_str());
   ASSERT_EQ(bind(s, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
-  expectCfgRow("C34", "", {"-o", "sock"});
+  expectCfgRow("C40", "", {"-o", "sock"});
   close(s);
   EXPECT_TRUE(std::filesystem::is_socket(path));
 }
 
-CATALOGUE_TEST(C35) {
-  expectCfgRow("C35", "ReconMeshPattern : out/r%d.obj\n", {"-o", "out/r0.obj"});
+CATALOGUE_TEST(C41) {
+  expectCfgRow("C41", "ReconMeshPattern : out/r%d.obj\n", {"-o", "out/r0.obj"});
 }
 
 // GOMListFile rows: the list is goms.txt beside x.cfg (one coded frame unless the cfg says so).
@@ -1256,10 +1256,10 @@ DATASET_TEST(J01) {
   expectRow("J01", "3dvo-import", {"-i", "x/dataset.json", "--Format=dataset", "-o", "out"});
 }
 
-DATASET_TEST(J21) {
+DATASET_TEST(J22) {
   writeDataset();
   const std::string before = test::readText(dir_.file("x/dataset.json"));
-  expectRow("J21", "3dvo-import", {"-i", "x/dataset.json", "--Format=dataset", "-o", "x"});
+  expectRow("J22", "3dvo-import", {"-i", "x/dataset.json", "--Format=dataset", "-o", "x"});
   EXPECT_EQ(test::readText(dir_.file("x/dataset.json")), before);
 }
 
