@@ -149,6 +149,7 @@ void OptionTable::parseText(const std::string& text, const std::string& origin) 
 }
 
 void OptionTable::parseFile(const std::string& path) {
+  filesRead_.push_back(path);
   const std::vector<uint8_t> bytes = readFileBytes(path, kMaxCfgFileBytes, "a cfg file");
   parseText(std::string(bytes.begin(), bytes.end()), path);
 }

@@ -51,6 +51,9 @@ class OptionTable {
   // True when the key was set by a file or an option (not left at its default).
   bool wasSet(const std::string& key) const;
 
+  // The cfg files read so far (-c and parseFile), in order: inputs no output may overwrite.
+  const std::vector<std::string>& filesRead() const { return filesRead_; }
+
   std::string helpText() const;
   // Every key with its effective value, one `Key : value` line each (a valid cfg file).
   std::string effectiveConfig() const;
@@ -69,6 +72,7 @@ class OptionTable {
 
   std::string programName_, usage_, currentSection_;
   std::vector<Option> options_;
+  std::vector<std::string> filesRead_;
 };
 
 // Implementation detail of addEnum, kept here so any enum type works.

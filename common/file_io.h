@@ -1,10 +1,14 @@
 // Whole-file reading and atomic writing.
 #pragma once
 
+#include <sys/types.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace tdvo {
@@ -32,19 +36,27 @@ void readFileMaybeGzChunks(const std::string& path,
 // after decompression (Error beyond that).
 std::string readFileMaybeGz(const std::string& path, uint64_t maxBytes = kMaxBinaryFileBytes);
 
-// Writes `size` bytes to `path` atomically: to a temporary name in the same folder first, then
-// renamed over `path`, so that no half-written file ever stands under the final name.
-// The temporary file is removed if the run is interrupted (interrupt.h).
+// What every output file promises (docs/robustness.md, "No data lost"):
+// - it is written under a fresh staged name beside its final name ("<name>.partial", or
+//   "<name>.<k>.partial" when that exists), created exclusively and never through a symbolic
+//   link (O_EXCL | O_NOFOLLOW), and renamed into place when the run has succeeded;
+// - an output named through a symbolic link replaces the link's target, not the link;
+// - a character device (/dev/null) or FIFO is written to in place, never replaced; a folder,
+//   block device or socket is refused;
+// - a run that fails, also while committing, leaves the previous run's files as they were.
+
+// Writes `size` bytes to `path` atomically (a StagedFiles of one file).
 void writeFileAtomic(const std::string& path, const void* data, size_t size);
 inline void writeFileAtomic(const std::string& path, const std::string& text) {
   writeFileAtomic(path, text.data(), text.size());
 }
 
-// Output files of one run, staged under temporary names ("<path>.partial") and renamed to their
-// final names together by commit(). If the run fails before commit() has renamed them all, the
-// destructor removes them (staged or already renamed), so a failed run leaves no output under a
-// final name; an interrupted one neither (interrupt.h: the files are in the interrupt registry
-// from before they are created until commit() is done).
+// Output files of one run, staged (see above) and put in place together by commit(). If the
+// run fails before commit(), the destructor removes the staged files. If commit() fails
+// halfway, it undoes what it did: files it renamed into place are removed, and a previous file
+// it replaced is restored from the backup it kept (a second hard link) until every file was in
+// place. An interrupted run does the same (interrupt.h: every staged file, new final file and
+// backup is in the interrupt registry while the commit is under way).
 class StagedFiles {
  public:
   StagedFiles() = default;
@@ -55,15 +67,73 @@ class StagedFiles {
   void write(const std::string& path, const std::string& text) {
     write(path, text.data(), text.size());
   }
+  // Stages an empty regular file for `path` (created exclusively, as above) and returns its
+  // name, for a writer that opens files by name (FFmpeg): the caller fills and closes it before
+  // commit(). A device or FIFO is refused here (such a writer seeks).
+  std::string stage(const std::string& path);
   void commit();
 
  private:
   struct Entry {
-    std::string path;  // final name
-    uint64_t handle;   // in the interrupt registry
-    bool renamed;      // commit() has moved it to its final name
+    std::string shown;          // the name the caller gave
+    std::string target;         // the file written: `shown` with symbolic links followed
+    std::string staged;         // the staged file
+    std::string backup;         // the previous file's backup while committing
+    std::vector<uint8_t> data;  // a special file's bytes, written by commit()
+    uint64_t handle = 0;        // the staged file in the interrupt registry
+    uint64_t backupHandle = 0;  // the backup's restore in the registry
+    uint64_t finalHandle = 0;   // a new final file's removal in the registry
+    bool special = false;       // a character device or FIFO
+    bool renamed = false;       // commit() has moved it to its final name
   };
+  void rollBack();
+  void checkNew(const std::string& path, const std::string& target);
   std::vector<Entry> entries_;
+  std::map<std::string, std::string> targets_;  // written file (absolute) -> name given
+  bool committed_ = false;
+};
+
+// A run's input files by identity (device and inode, links followed), so that an output
+// naming one of them, under any spelling or through any link, is refused before anything is
+// written: "OUTPUT: is the input INPUT (the same file); refusing to overwrite it".
+class InputFiles {
+ public:
+  void add(const std::string& path);  // a missing file (or an empty name) is ignored
+  void checkOutput(const std::string& output) const;
+
+ private:
+  std::map<std::pair<dev_t, ino_t>, std::string> files_;
+};
+
+// An app's output folder (docs/user-guide.md, "Output folders"). The constructor refuses a
+// folder that is not empty unless `overwrite` is set, refuses to replace a folder that holds
+// one of `inputs`, creates the folder if missing and a hidden staging folder inside it. Files
+// are written into the staging folder (write() takes their final path inside the folder;
+// subfolders are made as needed); commit() moves the previous contents aside, moves the staged
+// entries into place and then removes the previous contents, so that the folder holds exactly
+// this run's output; a failure puts everything back. A run that fails or is interrupted
+// before commit() leaves the folder as it was (removed again if this run created it, with any
+// parents it created).
+class OutputFolder {
+ public:
+  OutputFolder(const std::string& folder, bool overwrite,
+               const std::vector<std::string>& inputs = {});
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+  ~OutputFolder();
+  // `path` is a file inside the folder (e.g. folder + "/cam0/0000.png").
+  void write(const std::string& path, const void* data, size_t size);
+  void write(const std::string& path, const std::string& text) {
+    write(path, text.data(), text.size());
+  }
+  void commit();
+  const std::string& folder() const { return folder_; }
+
+ private:
+  std::string folder_, staging_;
+  std::vector<std::string> previous_;  // the folder's entries when the run started
+  uint64_t stagingHandle_ = 0;
+  std::vector<std::pair<std::string, uint64_t>> created_;  // folders made, outermost first
   bool committed_ = false;
 };
 

@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <thread>
 
@@ -13,7 +14,14 @@ namespace tdvo {
 namespace {
 
 std::mutex gMutex;
-std::map<uint64_t, std::string> gPaths;  // handle -> path; handles grow with time
+// What the cleanup does with one registered path.
+struct Entry {
+  std::string path;
+  std::string backup;  // non-empty: rename backup to path (restore) instead of removing path
+  bool tree = false;   // remove a folder with everything in it
+};
+
+std::map<uint64_t, Entry> gPaths;  // handle -> entry; handles grow with time
 uint64_t gNextHandle = 0;
 
 sigset_t interruptSignals() {
@@ -31,9 +39,17 @@ sigset_t interruptSignals() {
   }
   // Held until the process is gone, so no registered file can be created after the removal.
   gMutex.lock();
-  // Newest first: files before the folders they may be in.
-  for (auto it = gPaths.rbegin(); it != gPaths.rend(); ++it)
-    std::remove(it->second.c_str());
+  // Newest first: files before the folders they may be in, a commit's last steps first.
+  for (auto it = gPaths.rbegin(); it != gPaths.rend(); ++it) {
+    const Entry& e = it->second;
+    std::error_code ec;
+    if (!e.backup.empty())
+      std::rename(e.backup.c_str(), e.path.c_str());
+    else if (e.tree)
+      std::filesystem::remove_all(e.path, ec);
+    else
+      std::remove(e.path.c_str());
+  }
   // Die of the signal itself: default action, unblocked in this thread, raised at it.
   struct sigaction action = {};
   action.sa_handler = SIG_DFL;
@@ -64,7 +80,17 @@ std::unique_lock<std::mutex> InterruptRegistry::lock() {
 }
 
 uint64_t InterruptRegistry::add(const std::string& path) {
-  gPaths.emplace(gNextHandle, path);
+  gPaths.emplace(gNextHandle, Entry{path, "", false});
+  return gNextHandle++;
+}
+
+uint64_t InterruptRegistry::addTree(const std::string& path) {
+  gPaths.emplace(gNextHandle, Entry{path, "", true});
+  return gNextHandle++;
+}
+
+uint64_t InterruptRegistry::addRestore(const std::string& backup, const std::string& path) {
+  gPaths.emplace(gNextHandle, Entry{path, backup, false});
   return gNextHandle++;
 }
 

@@ -30,8 +30,14 @@ void installInterruptCleanup();
 class InterruptRegistry {
  public:
   static std::unique_lock<std::mutex> lock();
-  // Adds a path to remove on interruption; returns its handle. The lock must be held.
+  // Adds a path to remove on interruption (a file, or an empty folder); returns its handle.
+  // The lock must be held.
   static uint64_t add(const std::string& path);
+  // Adds a folder to remove with everything in it on interruption (a staging folder).
+  static uint64_t addTree(const std::string& path);
+  // Adds a backup to put back on interruption: `backup` is renamed to `path` (a commit under
+  // way restores the previous run's file it replaced).
+  static uint64_t addRestore(const std::string& backup, const std::string& path);
   // Removes a path from the registry (the file was renamed into place, or removed).
   // The lock must be held.
   static void drop(uint64_t handle);

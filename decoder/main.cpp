@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -107,10 +108,17 @@ Dataset decodedDataset(const StreamDecoder& decoder, const std::string& folder,
   return d;
 }
 
+// True when folder `a` is folder `b` or inside it (by name).
+bool insideFolder(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  const fs::path relative =
+      fs::path(a + "/").lexically_normal().lexically_relative(fs::path(b + "/").lexically_normal());
+  return !relative.empty() && *relative.begin() != "..";
+}
+
 // Writes each camera's H.264 access units, in order, as one Annex B file DIR/cam<c>.264.
 void extractTextures(const std::string& streamPath, const std::string& name, const std::string& dir,
-                     StagedFiles& outputs) {
-  makeDirectories(dir);
+                     OutputFolder& outputs) {
   std::vector<std::vector<uint8_t>> perCamera;
   UnitFileReader units(streamPath, name);
   UnitView unit;
@@ -133,7 +141,7 @@ void extractTextures(const std::string& streamPath, const std::string& name, con
 int main(int argc, char** argv) {
   return runApp("3dvo-dec", [&]() {
     std::string extractDir, streamPath, outputDir, meshPattern = "%04d.obj", verifyPath;
-    bool trace = false, renumber = false;
+    bool trace = false, renumber = false, overwrite = false;
     int threads = 1, firstFrame = 0, frameCount = 0;
     int maxVertexFramesPerByte = static_cast<int>(kDefaultMaxVertexFramesPerByte);
     int maxTexturePixelsPerByte = static_cast<int>(kDefaultMaxTexturePixelsPerByte);
@@ -164,6 +172,10 @@ int main(int argc, char** argv) {
     table.add("ExtractTextures", extractDir,
               "write each camera's H.264 texture stream to this folder as cam<c>.264 (Annex B)",
               "--extract-textures");
+    table.add("Overwrite", overwrite,
+              "replace the contents of a non-empty OutputDir (and ExtractTextures folder); "
+              "without it such a folder is refused",
+              "--Overwrite");
     table.add("MaxVertexFramesPerByte", maxVertexFramesPerByte, 0, 1 << 30,
               "refuse a stream declaring more decoded vertices x frames than this per stream "
               "byte read (a GOM's frames x its I mesh's vertices, summed; docs/robustness.md); "
@@ -184,19 +196,17 @@ int main(int argc, char** argv) {
     std::vector<std::string> expected;
     if (!verifyPath.empty()) expected = readMd5Lines(verifyPath);
     const bool range = table.wasSet("FirstFrame") || frameCount > 0;
-    // A folder this run creates is removed again if the run fails (it is empty then: the
-    // frames are staged and removed on failure).
-    struct CreatedFolder {
-      std::string path;
-      bool keep = false;
-      ~CreatedFolder() {
-        std::error_code ec;
-        if (!keep && !path.empty()) std::filesystem::remove(path, ec);
-      }
-    } createdFolder;
-    if (!outputDir.empty()) {
-      if (!std::filesystem::exists(outputDir)) createdFolder.path = outputDir;
-      makeDirectories(outputDir);
+    // Output folders (docs/user-guide.md): a non-empty one is refused unless --Overwrite is
+    // given; the output is staged inside and put in place when the run has succeeded, so that
+    // the folder then holds exactly this run's output, and a failed run leaves it as it was.
+    const std::vector<std::string> inputs = {streamPath, verifyPath};
+    std::optional<OutputFolder> outputs, extracted;
+    if (!outputDir.empty()) outputs.emplace(outputDir, overwrite, inputs);
+    const bool extractIntoOutput = outputs && insideFolder(extractDir, outputDir);
+    if (!extractDir.empty() && !extractIntoOutput) {
+      check(outputDir.empty() || !insideFolder(outputDir, extractDir),
+            "OutputDir " + outputDir + " must not be inside ExtractTextures " + extractDir);
+      extracted.emplace(extractDir, overwrite, inputs);
     }
 
     // Units are read from the file one at a time and every frame is written (and released) as
@@ -209,7 +219,6 @@ int main(int argc, char** argv) {
     if (range) decoder.setFrameRange(table.wasSet("FirstFrame") ? firstFrame : -1, frameCount);
     decoder.setThreads(
         threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency())));
-    StagedFiles outputs;
     uint64_t vertexFrames = 0;
     int frames = 0;         // frames output so far
     int64_t outFirst = -1;  // the stream frame of the first one
@@ -251,7 +260,7 @@ int main(int argc, char** argv) {
           if (outFirst < 0) outFirst = frame;
           report(geometryHashLine(inputNumber(frame), mesh));
           if (!outputDir.empty())
-            outputs.write(outputDir + "/" + framePath(meshPattern, outputNumber(frame)),
+            outputs->write(outputDir + "/" + framePath(meshPattern, outputNumber(frame)),
                           formatObj(decoder.grid().dequantise(mesh)));
           vertexFrames += mesh.positions.size();
           ++frames;
@@ -267,9 +276,8 @@ int main(int argc, char** argv) {
             pngs.erase(made);
           }
           const std::string folder = outputDir + "/" + cameraFolder(camera);
-          makeDirectories(folder);
-          outputs.write(folder + "/" + framePath(imagePattern(meshPattern), outputNumber(frame)),
-                        png.data(), png.size());
+          outputs->write(folder + "/" + framePath(imagePattern(meshPattern), outputNumber(frame)),
+                         png.data(), png.size());
         },
         // The PNGs are made where the pictures are decoded (on Threads threads), then written
         // above in order.
@@ -285,7 +293,7 @@ int main(int argc, char** argv) {
       check(expected.size() == lines, verifyPath + ": has " + std::to_string(expected.size()) +
                                           " MD5 lines, the stream gives " + std::to_string(lines));
     if (!outputDir.empty() && !decoder.sequenceHeader().cameras.empty())
-      outputs.write(outputDir + "/" + kDatasetFileName,
+      outputs->write(outputDir + "/" + kDatasetFileName,
                     formatDataset(decodedDataset(decoder, outputDir, meshPattern,
                                                  outputNumber(static_cast<int>(outFirst)), frames),
                                   outputDir));
@@ -297,11 +305,12 @@ int main(int argc, char** argv) {
       for (uint32_t start : decoder.gomStarts())
         if (start >= outFirst && start < outFirst + frames)
           starts.push_back(static_cast<uint32_t>(outputNumber(static_cast<int>(start))));
-      outputs.write(outputDir + "/" + kGomStartsFileName, formatGomStarts(starts));
+      outputs->write(outputDir + "/" + kGomStartsFileName, formatGomStarts(starts));
     }
-    if (!extractDir.empty()) extractTextures(streamPath, streamPath, extractDir, outputs);
-    outputs.commit();
-    createdFolder.keep = true;
+    if (!extractDir.empty())
+      extractTextures(streamPath, streamPath, extractDir, extracted ? *extracted : *outputs);
+    if (extracted) extracted->commit();
+    if (outputs) outputs->commit();
 
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -75,6 +75,40 @@ int main(int argc, char** argv) {
       return inputMeshPath(params, input, params.firstFrame + static_cast<int>(k));
     };
     source.read = [&source](size_t k) { return readObj(source.name(k)); };
+    // The input's frame number (FirstFrame + k) names the reconstruction of coded frame k.
+    auto reconName = [&params](int k) {
+      return framePath(params.reconMeshPattern, params.firstFrame + k);
+    };
+
+    // No output may overwrite an input, under any name (docs/robustness.md): the stream and
+    // the reconstructed frames are compared with the cfg files, the GOM list, the dataset and
+    // the frames to be read, by file identity, before anything is read or written.
+    {
+      InputFiles inputs;
+      for (const std::string& cfg : table.filesRead())
+        inputs.add(cfg);
+      inputs.add(params.gomListFile);
+      for (size_t k = 0; k < source.count; ++k)
+        inputs.add(source.name(k));
+      if (!params.dataset.empty()) {
+        inputs.add(dataset.resolve(kDatasetFileName));
+        for (const DatasetCamera& c : dataset.cameras)
+          for (const std::string* file :
+               {&c.images, &c.video, &c.masks, &c.background, &c.backgroundVideo})
+            for (size_t k = 0; !file->empty() && k < source.count; ++k) {
+              // Dataset frame number FirstFrame + k is the dataset's frame index k + FirstFrame
+              // - frames.first.
+              const int64_t index = int64_t{params.firstFrame} - dataset.firstFrame + int64_t(k);
+              if (index < 0 || index >= dataset.frameCount) break;  // refused later, clearly
+              inputs.add(dataset.framePath(*file, static_cast<int>(index)));
+              if (!hasFrameConversion(*file)) break;
+            }
+      }
+      inputs.checkOutput(params.bitstreamFile);
+      if (!params.reconMeshPattern.empty())
+        for (size_t k = 0; k < source.count; ++k)
+          inputs.checkOutput(reconName(static_cast<int>(k)));
+    }
     std::optional<TextureBoxFinder> boxes;
     if (!params.dataset.empty()) boxes.emplace(params, dataset, source.count);
 
@@ -99,8 +133,7 @@ int main(int argc, char** argv) {
             const int number = params.firstFrame + frame;
             std::printf("%s\n", geometryHashLine(number, recon).c_str());
             if (!params.reconMeshPattern.empty())
-              outputs.write(framePath(params.reconMeshPattern, number),
-                            formatObj(grid.dequantise(recon)));
+              outputs.write(reconName(frame), formatObj(grid.dequantise(recon)));
             progress.tick(frame + 1);
           },
           textures.get(),

@@ -4,6 +4,9 @@
 // names the file and line (or the stream unit), and no output file.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -23,6 +26,7 @@ using test::TempDir;
 
 const std::string kEncoder = std::string(TDVO_BIN_DIR) + "/3dvo-enc";
 const std::string kDecoder = std::string(TDVO_BIN_DIR) + "/3dvo-dec";
+const std::string kBin = TDVO_BIN_DIR;
 
 // A folder holding a generated sequence as OBJ files in/001.obj ... (first frame 1).
 class AppsTest : public testing::Test {
@@ -74,8 +78,8 @@ class AppsTest : public testing::Test {
   }
 
   // Runs `program` and checks the standard failure: exit 1, one error line from the app
-  // containing every `part`, and no new file anywhere (no output, no staged or temporary file;
-  // an output folder may be created, but stays empty).
+  // containing every `part`, and nothing new anywhere (no output, no staged or temporary file,
+  // no output folder).
   CommandResult expectFailure(const std::string& program, const std::vector<std::string>& args,
                               const std::vector<std::string>& parts) const {
     const std::vector<std::string> before = tree();
@@ -90,11 +94,7 @@ class AppsTest : public testing::Test {
         EXPECT_NE(errLines[0].find(part), std::string::npos)
             << "'" << part << "' missing from: " << errLines[0];
     }
-    for (const std::string& name : tree())
-      if (std::find(before.begin(), before.end(), name) == before.end()) {
-        EXPECT_TRUE(name == "out" && std::filesystem::is_directory(dir_.path() / name))
-            << "left behind: " << name;
-      }
+    EXPECT_EQ(tree(), before) << "something was left behind";
     return r;
   }
 
@@ -434,6 +434,138 @@ TEST_F(AppsTest, FlippedByteNamesTheUnit) {
     test::writeBytes(dir_.file("bad.3dvo"), bad);
     expectFailure(kDecoder, {"-i", "bad.3dvo", "-o", "out"}, {"bad.3dvo: unit "});
     std::filesystem::remove(dir_.file("bad.3dvo"));
+  }
+}
+
+// ---- Output folders and files (docs/user-guide.md, "Output folders"; docs/robustness.md) ----
+
+// Everything under `folder` (relative paths, hidden entries included), sorted.
+std::vector<std::string> listTree(const std::filesystem::path& folder) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(folder))
+    names.push_back(std::filesystem::relative(entry.path(), folder).string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+TEST_F(AppsTest, DecoderRefusesANonEmptyFolderAndOverwriteReplacesIt) {
+  encodeGood();
+  ASSERT_EQ(decode({"-i", "seq.3dvo", "-o", "out"}).exitCode, 0);
+  const std::vector<std::string> decoded = listTree(dir_.path() / "out");
+  // Files from another run: a frame this run does not write and a camera folder.
+  std::filesystem::create_directories(dir_.path() / "out" / "cam3");
+  test::writeText(dir_.file("out/0099.obj"), "another run");
+  test::writeText(dir_.file("out/cam3/0000.png"), "another run");
+  expectFailure(kDecoder, {"-i", "seq.3dvo", "-o", "out"},
+                {"out: the output folder is not empty", "--Overwrite"});
+  EXPECT_EQ(test::readText(dir_.file("out/0099.obj")), "another run");
+  const CommandResult r = decode({"-i", "seq.3dvo", "-o", "out", "--Overwrite"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  // Exactly this run's output: nothing of the other run, nothing staged or set aside.
+  EXPECT_EQ(listTree(dir_.path() / "out"), decoded);
+}
+
+TEST_F(AppsTest, DecoderOverwriteKeepsItsInputs) {
+  encodeGood();
+  std::filesystem::create_directories(dir_.path() / "out");
+  std::filesystem::rename(dir_.file("seq.3dvo"), dir_.file("out/seq.3dvo"));
+  expectFailure(kDecoder, {"-i", "out/seq.3dvo", "-o", "out", "--Overwrite"},
+                {"--Overwrite would delete the input out/seq.3dvo"});
+  EXPECT_TRUE(std::filesystem::exists(dir_.file("out/seq.3dvo")));
+}
+
+TEST_F(AppsTest, FailedTexturedDecodeLeavesNoFolderTree) {
+  // A textured stream cut inside its last GOM: frames and camera PNGs of the first GOMs were
+  // decoded (and staged) before the error.
+  const std::vector<uint8_t> stream = test::readBytes(
+      std::string(TDVO_SOURCE_DIR) + "/conformance/streams/texture_bbox_mb128_g3.3dvo");
+  test::writeBytes(dir_.file("cut.3dvo"),
+                   std::vector<uint8_t>(stream.begin(), stream.begin() + stream.size() * 9 / 10));
+  for (const char* out : {"out", "new/deeper/out"}) {
+    SCOPED_TRACE(out);
+    const CommandResult r = expectFailure(kDecoder, {"-i", "cut.3dvo", "-o", out}, {"cut.3dvo"});
+    EXPECT_NE(r.out.find("MD5 frame=3 texture cam=0"), std::string::npos) << "decoded too little";
+  }
+}
+
+TEST_F(AppsTest, EncoderRefusesToOverwriteItsInputs) {
+  // Other spellings and links of an input are caught too: files are compared by identity.
+  std::filesystem::create_symlink("in/003.obj", dir_.file("link.obj"));
+  test::writeText(dir_.file("x.cfg"), "GridBits : 11\n");
+  const std::string input = test::readText(inputPath(3));
+  for (const std::vector<std::string>& extra :
+       {std::vector<std::string>{"-o", "./in/../in/003.obj"},
+        {"-o", "link.obj"},
+        {"-c", "x.cfg", "-o", "x.cfg"},
+        {"--ReconMeshPattern=in/%03d.obj"}}) {
+    SCOPED_TRACE(extra.back());
+    expectFailure(kEncoder, encoderArgs(extra), {"is the input", "refusing to overwrite it"});
+  }
+  EXPECT_EQ(test::readText(inputPath(3)), input);
+  EXPECT_EQ(test::readText(dir_.file("x.cfg")), "GridBits : 11\n");
+}
+
+TEST_F(AppsTest, EncoderWritesIntoACharacterDeviceAndThroughASymlink) {
+  // A private null device (what /dev/null is): written to, never replaced by a regular file.
+  const std::string device = dir_.file("null");
+  if (mknod(device.c_str(), S_IFCHR | 0666, makedev(1, 3)) != 0)
+    GTEST_SKIP() << "cannot make a device node here";
+  CommandResult r = encode({"-o", "null"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::is_character_file(device));
+  // Through a symbolic link: the link stays, its target gets the stream.
+  std::filesystem::create_directories(dir_.path() / "streams");
+  std::filesystem::create_symlink("streams/seq.3dvo", dir_.file("link.3dvo"));
+  r = encode({"-o", "link.3dvo"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::is_symlink(dir_.file("link.3dvo")));
+  EXPECT_GT(std::filesystem::file_size(dir_.file("streams/seq.3dvo")), 100u);
+}
+
+TEST_F(AppsTest, ImportRefusesToOverwriteTheDatasetItReads) {
+  CommandResult r = test::run(dir_, kBin + "/3dvo-synth",
+                              {"-o", "rig", "--Cameras=2", "--FrameCount=1", "--Width=32",
+                               "--Height=24", "--BlobSubdivisions=1"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::string json = test::readText(dir_.file("rig/dataset.json"));
+  std::filesystem::create_symlink("rig", dir_.file("same"));
+  expectFailure(kBin + "/3dvo-import", {"-i", "rig", "-o", "same", "--Up=0,0,1"},
+                {"same/dataset.json: is the input rig/dataset.json (the same file)"});
+  EXPECT_EQ(test::readText(dir_.file("rig/dataset.json")), json);
+}
+
+TEST_F(AppsTest, EveryFolderAppRefusesANonEmptyFolder) {
+  // The same rule for every app that writes an output folder: refused when not empty, replaced
+  // with --Overwrite, and afterwards the folder holds exactly the run's output.
+  struct App {
+    std::string name;
+    std::vector<std::string> args;
+  };
+  const std::vector<App> apps = {
+      {"3dvo-sample", {"-o", "sample", "--FrameCount=2", "--Subdivisions=1"}},
+      {"3dvo-synth",
+       {"-o", "rig", "--Cameras=2", "--FrameCount=2", "--Width=32", "--Height=24",
+        "--BlobSubdivisions=1"}},
+      {"3dvo-render", {"-i", "rig", "-o", "views", "--OrbitSteps=2", "--Width=24", "--Height=16"}},
+      {"3dvo-render", {"-i", "rig", "-o", "player", "--Mode=export"}},
+      {"3dvo-render", {"-i", "rig", "-o", "held-out", "--Mode=leave-one-out", "--SaveRenders"}},
+      {"3dvo-recon", {"--InputMeshPattern=rig/meshes/%04d.obj", "--FrameCount=2", "-o", "recon"}},
+  };
+  for (const App& app : apps) {
+    SCOPED_TRACE(app.name + " " + app.args[1] + " " + app.args[3]);
+    const std::string program = kBin + "/" + app.name;
+    CommandResult r = test::run(dir_, program, app.args);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string folder =
+        app.args[std::find(app.args.begin(), app.args.end(), "-o") - app.args.begin() + 1];
+    const std::vector<std::string> written = listTree(dir_.path() / folder);
+    test::writeText(dir_.file(folder + "/stray.txt"), "another run");
+    expectFailure(program, app.args, {folder + ": the output folder is not empty"});
+    std::vector<std::string> args = app.args;
+    args.push_back("--Overwrite");
+    r = test::run(dir_, program, args);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(listTree(dir_.path() / folder), written);
   }
 }
 

@@ -12,6 +12,9 @@
 #include <draco/mesh/mesh.h>
 #include <draco/point_cloud/point_cloud.h>
 #include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -1022,6 +1025,26 @@ CATALOGUE_TEST(D08) {
 CATALOGUE_TEST(D07) {
   test::writeBytes(dir_.file("x.3dvo"), baseStream());
   expectRow("D07", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--FirstFrame=4", "--FrameCount=3"});
+CATALOGUE_TEST(D09) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  std::filesystem::create_directories(dir_.path() / "out");
+  test::writeText(dir_.file("out/old.obj"), "another run\n");
+  expectRow("D09", "3dvo-dec", {"-i", "x.3dvo", "-o", "out"});
+  EXPECT_EQ(test::readText(dir_.file("out/old.obj")), "another run\n");
+}
+
+CATALOGUE_TEST(D10) {
+  std::filesystem::create_directories(dir_.path() / "out");
+  test::writeBytes(dir_.file("out/x.3dvo"), baseStream());
+  expectRow("D10", "3dvo-dec", {"-i", "out/x.3dvo", "-o", "out", "--Overwrite"});
+  EXPECT_EQ(test::readBytes(dir_.file("out/x.3dvo")), baseStream());
+}
+
+CATALOGUE_TEST(D11) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  test::writeText(dir_.file("file"), "in the way\n");
+  expectRow("D11", "3dvo-dec", {"-i", "x.3dvo", "-o", "file"});
+  EXPECT_EQ(test::readText(dir_.file("file")), "in the way\n");
 }
 
 // ---- OBJ input (3dvo-enc) ----
@@ -1214,6 +1237,42 @@ CATALOGUE_TEST(C20) {
   expectCfgRow("C20", "", {"-o", "no-such-folder/x.3dvo"});
 }
 
+CATALOGUE_TEST(C36) {
+  expectCfgRow("C36", "", {"-o", "./in/../in/000.obj"});
+  EXPECT_EQ(parseObj(test::readText(dir_.file("in/000.obj")), "in/000.obj").positions.size(), 42u);
+}
+
+CATALOGUE_TEST(C37) {
+  expectCfgRow("C37", "GridBits : 10\n", {"-o", "x.cfg"});
+  EXPECT_EQ(test::readText(dir_.file("x.cfg")), "GridBits : 10\n");
+}
+
+CATALOGUE_TEST(C38) {
+  expectCfgRow("C38", "ReconMeshPattern : in/%03d.obj\n");
+}
+
+CATALOGUE_TEST(C39) {
+  expectCfgRow("C39", "", {"-o", "out"});
+}
+
+CATALOGUE_TEST(C40) {
+  const int s = socket(AF_UNIX, SOCK_STREAM, 0);
+  ASSERT_GE(s, 0);
+  sockaddr_un address = {};
+  address.sun_family = AF_UNIX;
+  const std::string path = dir_.file("sock");
+  ASSERT_LT(path.size(), sizeof address.sun_path);
+  std::strcpy(address.sun_path, path.c_str());
+  ASSERT_EQ(bind(s, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
+  expectCfgRow("C40", "", {"-o", "sock"});
+  close(s);
+  EXPECT_TRUE(std::filesystem::is_socket(path));
+}
+
+CATALOGUE_TEST(C41) {
+  expectCfgRow("C41", "ReconMeshPattern : out/r%d.obj\n", {"-o", "out/r0.obj"});
+}
+
 // GOMListFile rows: the list is goms.txt beside x.cfg (one coded frame unless the cfg says so).
 CATALOGUE_TEST(C21) {
   expectCfgRow("C21", "GOMListFile : missing.txt\n");
@@ -1343,6 +1402,13 @@ TEST_F(DatasetRows, TheValidDatasetImports) {
 
 DATASET_TEST(J01) {
   expectRow("J01", "3dvo-import", {"-i", "x/dataset.json", "--Format=dataset", "-o", "out"});
+}
+
+DATASET_TEST(J22) {
+  writeDataset();
+  const std::string before = test::readText(dir_.file("x/dataset.json"));
+  expectRow("J22", "3dvo-import", {"-i", "x/dataset.json", "--Format=dataset", "-o", "x"});
+  EXPECT_EQ(test::readText(dir_.file("x/dataset.json")), before);
 }
 
 DATASET_TEST(J02) {

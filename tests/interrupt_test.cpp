@@ -2,14 +2,19 @@
 // (common/interrupt.h, common/file_io.h). The apps from TDVO_BIN_DIR are started as child
 // processes and sent SIGTERM or SIGINT as soon as their first staged output file appears; the
 // staging itself (registry, partly failed commit) is checked in-process.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -138,7 +143,8 @@ TEST_F(InterruptTest, DecoderLeavesNothing) {
   status = interruptWhenStaging(pid, dir_.path() / "out", SIGTERM);
   ASSERT_TRUE(WIFSIGNALED(status)) << "status " << status;
   EXPECT_EQ(WTERMSIG(status), SIGTERM);
-  EXPECT_TRUE(!std::filesystem::exists(dir_.path() / "out") || files(dir_.path() / "out").empty());
+  // No folder tree is left either: the folder this run made goes with its staged contents.
+  EXPECT_FALSE(std::filesystem::exists(dir_.path() / "out"));
   std::vector<std::string> expected = inputs_;
   expected.push_back("x.3dvo");
   std::sort(expected.begin(), expected.end());
@@ -178,20 +184,139 @@ TEST(Staging, FailedRunLeavesNothing) {
   EXPECT_TRUE(test::listFolder(dir.path()).empty());
 }
 
-TEST(Staging, CommitThatFailsHalfwayLeavesNothing) {
-  // The second file cannot be renamed into place (a non-empty folder has its name): the first,
-  // already renamed, is removed again with the staged second.
+TEST(Staging, CommitThatFailsHalfwayKeepsThePreviousFiles) {
+  // The previous run left a, b and c. The second file cannot be renamed into place (a
+  // non-empty folder has taken its name since it was staged): the commit fails, and a, already
+  // replaced, gets its previous contents back; c was never touched; nothing staged is left.
   TempDir dir("staging");
-  std::filesystem::create_directories(dir.path() / "b" / "full");
+  test::writeText(dir.file("a"), "previous a");
+  test::writeText(dir.file("c"), "previous c");
   const size_t before = InterruptRegistry::size();
   {
     StagedFiles out;
-    out.write(dir.file("a"), "a");
-    out.write(dir.file("b"), "b");
+    out.write(dir.file("a"), "new a");
+    out.write(dir.file("b"), "new b");
+    out.write(dir.file("c"), "new c");
+    std::filesystem::create_directories(dir.path() / "b" / "full");
     EXPECT_THROW(out.commit(), Error);
   }
   EXPECT_EQ(InterruptRegistry::size(), before);
-  EXPECT_EQ(test::listFolder(dir.path()), std::vector<std::string>{"b"});
+  EXPECT_EQ(test::readText(dir.file("a")), "previous a");
+  EXPECT_EQ(test::readText(dir.file("c")), "previous c");
+  EXPECT_EQ(test::listFolder(dir.path()), (std::vector<std::string>{"a", "b", "c"}));
+}
+
+TEST(Staging, PlantedPartialLinkIsNotFollowed) {
+  // A symbolic link planted under the staged name must not redirect the write: the staged
+  // file is created exclusively under a fresh name, and the link's target is untouched.
+  TempDir dir("staging");
+  test::writeText(dir.file("victim"), "precious");
+  std::filesystem::create_symlink(dir.file("victim"), dir.file("a.partial"));
+  std::filesystem::create_symlink(dir.file("victim"), dir.file("b.partial"));
+  {
+    StagedFiles out;
+    out.write(dir.file("a"), "new a");
+    out.commit();
+  }
+  writeFileAtomic(dir.file("b"), "new b");
+  EXPECT_EQ(test::readText(dir.file("victim")), "precious");
+  EXPECT_EQ(test::readText(dir.file("a")), "new a");
+  EXPECT_EQ(test::readText(dir.file("b")), "new b");
+  EXPECT_TRUE(std::filesystem::is_symlink(dir.file("a.partial")));
+  EXPECT_EQ(test::listFolder(dir.path()),
+            (std::vector<std::string>{"a", "a.partial", "b", "b.partial", "victim"}));
+}
+
+TEST(Staging, OutputThroughASymlinkReplacesItsTarget) {
+  TempDir dir("staging");
+  std::filesystem::create_directories(dir.path() / "data");
+  test::writeText(dir.file("data/x.3dvo"), "previous");
+  std::filesystem::create_symlink("data/x.3dvo", dir.file("link.3dvo"));
+  std::filesystem::create_symlink("data/new.3dvo", dir.file("dangling.3dvo"));
+  writeFileAtomic(dir.file("link.3dvo"), "new");
+  writeFileAtomic(dir.file("dangling.3dvo"), "created");
+  EXPECT_TRUE(std::filesystem::is_symlink(dir.file("link.3dvo")));
+  EXPECT_TRUE(std::filesystem::is_symlink(dir.file("dangling.3dvo")));
+  EXPECT_EQ(test::readText(dir.file("data/x.3dvo")), "new");
+  EXPECT_EQ(test::readText(dir.file("data/new.3dvo")), "created");
+}
+
+TEST(Staging, FifoIsWrittenInPlaceNotReplaced) {
+  TempDir dir("staging");
+  const std::string fifo = dir.file("pipe");
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  // A reader that is already there (non-blocking), so that opening for writing does not wait.
+  const int reader = open(fifo.c_str(), O_RDONLY | O_NONBLOCK);
+  ASSERT_GE(reader, 0);
+  writeFileAtomic(fifo, "through the pipe");
+  char buffer[64] = {};
+  const ssize_t n = read(reader, buffer, sizeof buffer);
+  close(reader);
+  EXPECT_EQ(std::string(buffer, n > 0 ? static_cast<size_t>(n) : 0), "through the pipe");
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
+  EXPECT_EQ(test::listFolder(dir.path()), std::vector<std::string>{"pipe"});
+}
+
+TEST(Staging, FolderAndSocketAreRefused) {
+  TempDir dir("staging");
+  std::filesystem::create_directories(dir.path() / "folder" / "inside");
+  EXPECT_THROW(writeFileAtomic(dir.file("folder"), "x"), Error);
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "folder" / "inside"));
+  const int s = socket(AF_UNIX, SOCK_STREAM, 0);
+  ASSERT_GE(s, 0);
+  sockaddr_un address = {};
+  address.sun_family = AF_UNIX;
+  const std::string path = dir.file("socket");
+  ASSERT_LT(path.size(), sizeof address.sun_path);
+  std::strcpy(address.sun_path, path.c_str());
+  ASSERT_EQ(bind(s, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
+  EXPECT_THROW(writeFileAtomic(path, "x"), Error);
+  close(s);
+  EXPECT_TRUE(std::filesystem::is_socket(path));
+}
+
+// ---- Output folders ----
+
+TEST(OutputFolders, FailedRunLeavesNoFolderTree) {
+  TempDir dir("outfolder");
+  const size_t before = InterruptRegistry::size();
+  {
+    OutputFolder out(dir.file("new/deeper/out"), false);
+    out.write(dir.file("new/deeper/out/cam0/0000.png"), "png");
+    out.write(dir.file("new/deeper/out/0000.obj"), "obj");
+  }
+  EXPECT_EQ(InterruptRegistry::size(), before);
+  EXPECT_TRUE(test::listFolder(dir.path()).empty());
+}
+
+TEST(OutputFolders, CommitHoldsExactlyThisRunsOutput) {
+  TempDir dir("outfolder");
+  std::filesystem::create_directories(dir.path() / "out" / "cam7");
+  test::writeText(dir.file("out/0000.obj"), "previous");
+  test::writeText(dir.file("out/cam7/0000.png"), "previous camera");
+  EXPECT_THROW(OutputFolder(dir.file("out"), false), Error);  // not empty
+  {
+    OutputFolder out(dir.file("out"), true);
+    out.write(dir.file("out/0000.obj"), "new");
+    out.write(dir.file("out/cam0/0000.png"), "new camera");
+    EXPECT_THROW(out.write(dir.file("out/../escape"), "x"), Error);
+    // Not committed yet: the previous contents are all there.
+    EXPECT_EQ(test::readText(dir.file("out/0000.obj")), "previous");
+    out.commit();
+  }
+  EXPECT_EQ(test::listFolder(dir.path() / "out"), (std::vector<std::string>{"0000.obj", "cam0"}));
+  EXPECT_EQ(test::readText(dir.file("out/0000.obj")), "new");
+  EXPECT_EQ(test::readText(dir.file("out/cam0/0000.png")), "new camera");
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "escape"));
+}
+
+TEST(OutputFolders, OverwriteRefusesAFolderHoldingAnInput) {
+  TempDir dir("outfolder");
+  std::filesystem::create_directories(dir.path() / "out" / "in");
+  test::writeText(dir.file("out/in/x.3dvo"), "stream");
+  std::filesystem::create_symlink("out/in", dir.file("link"));
+  EXPECT_THROW(OutputFolder(dir.file("out"), true, {dir.file("link/x.3dvo")}), Error);
+  EXPECT_EQ(test::readText(dir.file("out/in/x.3dvo")), "stream");
 }
 
 }  // namespace

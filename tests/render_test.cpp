@@ -297,6 +297,25 @@ TEST(Mp4Writer, FailureLeavesNoFile) {
   EXPECT_TRUE(test::listFolder(dir.path()).empty());
 }
 
+TEST(Mp4Writer, PlantedPartialLinkIsNotFollowedAndALinkedOutputKeepsItsLink) {
+  // docs/robustness.md, "No data lost": the staged MP4 is created exclusively, never through a
+  // planted link; an output named through a symbolic link replaces the link's target.
+  test::TempDir dir("mp4link");
+  test::writeText(dir.file("victim"), "precious");
+  fs::create_symlink(dir.file("victim"), dir.file("out.mp4.partial"));
+  fs::create_symlink("target.mp4", dir.file("out.mp4"));
+  {
+    Mp4Writer writer(dir.file("out.mp4"), 32, 32, 25, 18);
+    writer.write(Image(32, 32, 3, 9));
+    writer.finish();
+  }
+  EXPECT_EQ(test::readText(dir.file("victim")), "precious");
+  EXPECT_TRUE(fs::is_symlink(dir.file("out.mp4")));
+  EXPECT_GT(fs::file_size(dir.file("target.mp4")), 100u);
+  EXPECT_EQ(test::listFolder(dir.path()),
+            (std::vector<std::string>{"out.mp4", "out.mp4.partial", "target.mp4", "victim"}));
+}
+
 TEST_F(SynthRig, PlayerExportWritesSceneMeshesAndAtlases) {
   test::TempDir dir("export");
   test::writeText(dir.file("goms.txt"), "0, 1  # two GOMs\n");

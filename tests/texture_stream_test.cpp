@@ -46,7 +46,7 @@ TEST_F(TextureApps, EncoderAndDecoderAgreeAndEncodingIsDeterministic) {
         << padding << ": two encodes differ";
     const std::vector<std::string> encoded = textureLines(a.out);
     EXPECT_EQ(encoded.size(), 6u * 3u);  // 6 frames x 3 cameras
-    const auto d = test::run(dir, kBin + "/3dvo-dec", {"-i", "a.3dvo", "-o", "out"});
+    const auto d = test::run(dir, kBin + "/3dvo-dec", {"-i", "a.3dvo", "-o", "out", "--Overwrite"});
     ASSERT_EQ(d.exitCode, 0) << d.err;
     EXPECT_EQ(textureLines(d.out), encoded) << padding;
     EXPECT_EQ(test::linesStartingWith(d.out, "MD5 "), test::linesStartingWith(a.out, "MD5 "));

@@ -8,6 +8,8 @@
 
 #include "common/app.h"
 #include "common/config.h"
+#include "common/dataset.h"
+#include "common/file_io.h"
 #include "tools/multiview/importers.h"
 
 int main(int argc, char** argv) {
@@ -43,6 +45,13 @@ int main(int argc, char** argv) {
     if (!table.parseCommandLine(argc, argv)) return 0;
     tdvo::check(!input.empty(), "no input given (-i INPUT); see --help");
     tdvo::check(!output.empty(), "no output folder given (-o DIR); see --help");
+    // The dataset.json written must not be the input (e.g. -i DIR -o DIR on a dataset folder).
+    {
+      tdvo::InputFiles inputs;
+      inputs.add(input);
+      inputs.add(input + "/" + tdvo::kDatasetFileName);
+      inputs.checkOutput(output + "/" + tdvo::kDatasetFileName);
+    }
     const tdvo::Dataset d = tdvo::importAny(input, options);
     if (validate) tdvo::validateDatasetFiles(d);
     tdvo::writeDataset(d, output);

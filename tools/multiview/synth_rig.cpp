@@ -13,8 +13,8 @@
 #include "common/obj_io.h"
 #include "common/progress.h"
 #include "common/rasteriser.h"
-#include "common/sequence.h"
 #include "common/sample_mesh.h"
+#include "common/sequence.h"
 #include "tools/multiview/importers.h"
 
 namespace tdvo {
@@ -24,6 +24,10 @@ namespace fs = std::filesystem;
 void addSynthOptions(OptionTable& table, SynthParams& p) {
   table.section("Output");
   table.add("Output", p.output, "dataset folder to write", "-o");
+  table.add(
+      "Overwrite", p.overwrite,
+      "replace the contents of a non-empty output folder (without it such a folder is refused)",
+      "--Overwrite");
   table.section("Content");
   table.add("InputMeshPattern", p.inputMeshPattern,
             "OBJ sequence (e.g. samba/mesh_%04d.obj.gz, constant connectivity); empty: the "
@@ -269,10 +273,10 @@ Dataset writeSyntheticDataset(const SynthParams& p) {
     d.cameras.push_back(dc);
   }
 
-  makeDirectories((fs::path(p.output) / "meshes").string());
-  for (const Camera& c : cameras)
-    makeDirectories((fs::path(p.output) / c.name).string());
-  StagedFiles files;
+  OutputFolder files(
+      p.output, p.overwrite,
+      {p.backgroundImage,
+       p.inputMeshPattern.empty() ? std::string() : framePath(p.inputMeshPattern, p.firstFrame)});
   auto stagePng = [&](const std::string& path, const Image& image) {
     const std::vector<uint8_t> bytes = encodePng(image);
     files.write(path, bytes.data(), bytes.size());

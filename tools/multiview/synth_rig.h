@@ -17,6 +17,7 @@ enum class RigLayout { ring, dome };
 
 struct SynthParams {
   std::string output;            // dataset folder to write
+  bool overwrite = false;        // replace a non-empty output folder's contents
   std::string inputMeshPattern;  // OBJ sequence; empty: the built-in deforming blob
   int firstFrame = 0;            // number of the first input mesh
   int frameCount = 10;           // frames to render

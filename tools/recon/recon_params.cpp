@@ -15,6 +15,10 @@ void addReconOptions(OptionTable& table, ReconParams& p) {
             "instead of Input: an OBJ sequence (printf pattern) to track into GOMs without "
             "reconstruction");
   table.add("Output", p.output, "output folder: OBJ frames, GOM list, encoder cfg, report", "-o");
+  table.add(
+      "Overwrite", p.overwrite,
+      "replace the contents of a non-empty output folder (without it such a folder is refused)",
+      "--Overwrite");
   table.add("FirstFrame", p.firstFrame, 0, 1000000000,
             "first dataset frame index (Input) or first file number (InputMeshPattern)");
   table.add("FrameCount", p.frameCount, 0, 1000000,

@@ -18,6 +18,7 @@ struct ReconParams {
   std::string input;             // dataset folder, or anything tools/multiview imports
   std::string inputMeshPattern;  // or: an OBJ sequence to track (no reconstruction)
   std::string output;            // output folder
+  bool overwrite = false;        // replace a non-empty output folder's contents
   int firstFrame = 0;            // dataset frame index / number of the first input mesh file
   int frameCount = 0;            // frames to process; 0: every frame from firstFrame on
   std::string cameras;           // comma-separated camera names to use; empty: all

@@ -202,13 +202,10 @@ ReconResult runReconstruction(const ReconParams& params, std::FILE* log) {
   // Output folders; files are staged and renamed together at the end.
   namespace fs = std::filesystem;
   const std::string out = params.output;
-  makeDirectories(out);
-  makeDirectories(out + "/encode");
-  if (params.writeHull) makeDirectories(out + "/hull");
-  if (params.writeSilhouettes)
-    for (const std::string& name : result.cameras)
-      makeDirectories(out + "/silhouettes/" + name);
-  StagedFiles files;
+  OutputFolder files(out, params.overwrite,
+                     {params.input, params.inputMeshPattern.empty()
+                                        ? std::string()
+                                        : framePath(params.inputMeshPattern, params.firstFrame)});
 
   GomBuilder builder(params);
   Progress progress("3dvo-recon: frame", static_cast<size_t>(frameCount));

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "common/file_io.h"
 #include "common/image.h"
@@ -12,7 +13,8 @@ namespace tdvo {
 
 std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const std::vector<int>& frames,
                                         const RenderOptions& options,
-                                        const std::string& renderFolder) {
+                                        const std::string& renderFolder, bool overwrite,
+                                        const std::vector<std::string>& inputs) {
   const size_t n = dataset.cameras.size();
   std::vector<LeaveOneOutRow> rows(n);
   for (size_t i = 0; i < n; ++i)
@@ -20,7 +22,8 @@ std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const std::vecto
   std::vector<CameraFrames> cameraFrames;
   for (size_t i = 0; i < n; ++i)
     cameraFrames.emplace_back(dataset, i);
-  StagedFiles files;
+  std::optional<OutputFolder> files;
+  if (!renderFolder.empty()) files.emplace(renderFolder, overwrite, inputs);
   Progress progress("3dvo-render: leave-one-out", frames.size() * n);
   size_t done = 0;
   for (int frame : frames) {
@@ -51,14 +54,13 @@ std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const std::vecto
         char name[32];
         std::snprintf(name, sizeof name, "%04d.png", frame);
         const std::string folder = (std::filesystem::path(renderFolder) / camera.name).string();
-        makeDirectories(folder);
         const std::vector<uint8_t> png = encodePng(heldOut);
-        files.write((std::filesystem::path(folder) / name).string(), png.data(), png.size());
+        files->write((std::filesystem::path(folder) / name).string(), png.data(), png.size());
       }
       progress.tick(++done);
     }
   }
-  files.commit();
+  if (files) files->commit();
   return rows;
 }
 

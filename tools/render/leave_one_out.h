@@ -22,10 +22,13 @@ struct LeaveOneOutRow {
 // Evaluates every camera of `dataset` (frame indices `frames`) as held-out camera. The PSNR
 // mask is the camera's silhouette (mask files or alpha) when it has one, else the pixels the
 // rendered mesh covers. When `renderFolder` is not empty the held-out renders are written there
-// as <camera>/<frame index %04d>.png. Progress on stderr when it is a terminal.
+// as <camera>/<frame index %04d>.png (an output folder: common/file_io.h, OutputFolder; a
+// non-empty one is refused unless `overwrite`). Progress on stderr when it is a terminal.
 std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const std::vector<int>& frames,
                                         const RenderOptions& options,
-                                        const std::string& renderFolder = "");
+                                        const std::string& renderFolder = "",
+                                        bool overwrite = false,
+                                        const std::vector<std::string>& inputs = {});
 
 // A Markdown table: camera, pixels, leave-one-out PSNR, own-pose PSNR, % of the mask pixels
 // that fell back (no other camera sees them), and a last row pooling every camera.

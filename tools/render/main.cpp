@@ -47,7 +47,7 @@ struct Params {
   double orbitDistance = 0, orbitTurns = 1, fieldOfView = 0;
   std::string output, outputPattern = "%04d.png", mp4, csv, gomStarts;
   int crf = 18;
-  bool saveRenders = false;
+  bool saveRenders = false, overwrite = false;
 
   void registerOptions(OptionTable& t) {
     t.section("Input");
@@ -106,6 +106,9 @@ struct Params {
           "folder for the PNG sequence (render), the held-out renders (leave-one-out, with "
           "SaveRenders) or the player data (export)",
           "-o");
+    t.add("Overwrite", overwrite,
+          "replace the contents of a non-empty output folder (without it such a folder is refused)",
+          "--Overwrite");
     t.add("OutputPattern", outputPattern, "PNG file name pattern inside Output");
     t.add("Mp4", mp4, "Mode=render: also write this H.264 MP4 file");
     t.add("Crf", crf, 0, 51, "x264 constant rate factor of the MP4");
@@ -204,8 +207,7 @@ void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames
       viewFrames.push_back(p.frame >= 0 ? p.frame : frames[k % frames.size()]);
   }
 
-  makeDirectories(p.output);
-  StagedFiles files;
+  OutputFolder files(p.output, p.overwrite, {p.input, p.poses});
   std::unique_ptr<Mp4Writer> mp4;
   std::optional<FrameViews> loaded;
   int loadedFrame = -1;
@@ -227,8 +229,10 @@ void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames
     }
     progress.tick(k + 1);
   }
-  if (mp4) mp4->finish();
+  // The folder first: an MP4 inside it, made during the run, stays; one from a previous run
+  // goes with the folder's previous contents and is then replaced by this run's.
   files.commit();
+  if (mp4) mp4->finish();
   const double covered = stats.covered ? double(stats.covered) : 1.0;
   std::printf(
       "3dvo-render: wrote %zu views to %s%s%s; of %zu object pixels %.2f %% blended, %.2f %% "
@@ -262,12 +266,14 @@ int main(int argc, char** argv) {
       check(d.cameras.size() >= 2, "leave-one-out needs at least two cameras");
       check(!p.saveRenders || !p.output.empty(), "SaveRenders needs an output folder (-o DIR)");
       const std::vector<LeaveOneOutRow> rows =
-          leaveOneOut(d, frames, p.render, p.saveRenders ? p.output : "");
+          leaveOneOut(d, frames, p.render, p.saveRenders ? p.output : "", p.overwrite, {p.input});
       std::fputs(formatLeaveOneOutTable(rows).c_str(), stdout);
       if (!p.csv.empty()) writeFileAtomic(p.csv, formatLeaveOneOutCsv(rows));
     } else {
       PlayerExportParams e;
       e.output = p.output;
+      e.overwrite = p.overwrite;
+      e.inputs = {p.input, p.gomStarts};
       e.frames = frames;
       e.options = p.render;
       std::string gomFile = p.gomStarts;

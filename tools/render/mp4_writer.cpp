@@ -12,6 +12,7 @@ extern "C" {
 #include <filesystem>
 
 #include "common/error.h"
+#include "common/file_io.h"
 #include "common/yuv.h"
 
 namespace tdvo {
@@ -28,7 +29,8 @@ std::string avError(int code) {
 
 struct Mp4Writer::State {
   std::string path, partial;
-  int width = 0, height = 0;            // of the frames given
+  StagedFiles staged;         // the partial file: created exclusively, put in place by finish()
+  int width = 0, height = 0;  // of the frames given
   int codedWidth = 0, codedHeight = 0;  // rounded up to even
   AVFormatContext* format = nullptr;
   AVCodecContext* encoder = nullptr;
@@ -45,10 +47,6 @@ struct Mp4Writer::State {
     if (format) {
       if (open) avio_closep(&format->pb);
       avformat_free_context(format);
-    }
-    if (!finished && !partial.empty()) {
-      std::error_code ec;
-      std::filesystem::remove(partial, ec);
     }
   }
 
@@ -75,12 +73,12 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, double fram
     : state_(std::make_unique<State>()) {
   State& s = *state_;
   s.path = path;
-  s.partial = path + ".partial";
   s.width = width, s.height = height;
   s.codedWidth = width + (width & 1), s.codedHeight = height + (height & 1);
   check(width > 0 && height > 0, path + ": empty frame size");
   check(frameRate > 0 && std::isfinite(frameRate), path + ": the frame rate must be positive");
   check(crf >= 0 && crf <= 51, path + ": the CRF must be in 0..51");
+  s.partial = s.staged.stage(path);
   // x264 reports its settings and statistics at the info level: keep warnings and errors only.
   av_log_set_level(std::min(av_log_get_level(), AV_LOG_WARNING));
   int r = avformat_alloc_output_context2(&s.format, nullptr, "mp4", s.partial.c_str());
@@ -162,9 +160,7 @@ void Mp4Writer::finish() {
   r = avio_closep(&s.format->pb);
   s.open = false;
   check(r >= 0, s.path + ": closing failed: " + avError(r));
-  std::error_code ec;
-  std::filesystem::rename(s.partial, s.path, ec);
-  check(!ec, s.path + ": cannot rename the finished file: " + ec.message());
+  s.staged.commit();
   s.finished = true;
 }
 

@@ -93,9 +93,7 @@ void exportPlayerData(const Dataset& d, const PlayerExportParams& p) {
   const Vec3d up = datasetUp(d);
   scene["up"] = up;
 
-  StagedFiles files;
-  makeDirectories((fs::path(p.output) / "meshes").string());
-  makeDirectories((fs::path(p.output) / "textures").string());
+  OutputFolder files(p.output, p.overwrite, p.inputs);
   std::vector<CameraFrames> frames;
   for (size_t i = 0; i < n; ++i)
     frames.emplace_back(d, i);

@@ -21,10 +21,12 @@
 namespace tdvo {
 
 struct PlayerExportParams {
-  std::string output;          // folder to write
-  std::vector<int> frames;     // dataset frame indices to export, in order
-  std::vector<int> gomStarts;  // positions in `frames` where a GOM starts (empty: every frame)
-  RenderOptions options;       // written as the player's default weighting
+  std::string output;               // folder to write
+  bool overwrite = false;           // replace a non-empty output folder's contents
+  std::vector<std::string> inputs;  // files the output folder must not hold when replaced
+  std::vector<int> frames;          // dataset frame indices to export, in order
+  std::vector<int> gomStarts;       // positions in `frames` where a GOM starts (empty: every frame)
+  RenderOptions options;            // written as the player's default weighting
 };
 
 // Writes the player data (all files staged and renamed together at the end).

@@ -14,9 +14,14 @@ int main(int argc, char** argv) {
   return runApp("3dvo-sample", [&]() {
     std::string outputDir, pattern = "%04d.obj";
     int subdivisions = 4, frameCount = 30;
+    bool overwrite = false;
     OptionTable table("3dvo-sample", "3dvo-sample -o DIR [--Key=value ...]");
     table.section("Sample");
     table.add("OutputDir", outputDir, "folder for the OBJ frames", "-o");
+    table.add(
+        "Overwrite", overwrite,
+        "replace the contents of a non-empty output folder (without it such a folder is refused)",
+        "--Overwrite");
     table.add("OutputMeshPattern", pattern, "file name of frame n (printf pattern, n from 0)");
     table.add("Subdivisions", subdivisions, 0, 8,
               "icosphere subdivisions (10*4^s+2 vertices, 20*4^s triangles)");
@@ -24,9 +29,8 @@ int main(int argc, char** argv) {
     if (!table.parseCommandLine(argc, argv)) return 0;
     check(!outputDir.empty(), "no output folder given (-o DIR; see --help)");
     checkFramePattern(pattern, "OutputMeshPattern");
-    makeDirectories(outputDir);
+    OutputFolder outputs(outputDir, overwrite);
     const std::vector<Mesh> frames = deformingBlob(subdivisions, frameCount);
-    StagedFiles outputs;
     for (int f = 0; f < frameCount; ++f)
       outputs.write(outputDir + "/" + framePath(pattern, f), formatObj(frames[f]));
     outputs.commit();
