@@ -1,9 +1,12 @@
 // 3dvo-dec: decodes a .3dvo stream to OBJ frames and prints per-frame MD5 lines.
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -27,22 +30,49 @@ using namespace tdvo;
 
 namespace {
 
-// The "MD5 ..." lines of a log (other lines, e.g. summaries, are ignored).
-std::vector<std::string> readMd5Lines(const std::string& path) {
-  const std::vector<uint8_t> bytes = readFileBytes(path, kMaxMd5LogBytes, "an MD5 log");
-  std::vector<std::string> lines;
-  std::string line;
-  for (size_t i = 0; i <= bytes.size(); ++i) {
-    if (i == bytes.size() || bytes[i] == '\n') {
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      if (line.rfind("MD5 ", 0) == 0) lines.push_back(line);
-      line.clear();
-    } else {
-      line += static_cast<char>(bytes[i]);
-    }
+// The "MD5 ..." lines of a log (other lines, e.g. summaries, are ignored), read one at a time
+// as the decoded lines are compared with them: memory does not grow with the log. A line longer
+// than kMaxMd5LogLine bytes (no MD5 line is) is an error, so a file that never ends a line
+// (/dev/zero) is refused at once.
+constexpr size_t kMaxMd5LogLine = size_t{1} << 16;
+
+class Md5Log {
+ public:
+  explicit Md5Log(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "rb")) {
+    if (!file_) throw Error(path + ": cannot open: " + std::strerror(errno));
   }
-  return lines;
-}
+  ~Md5Log() { std::fclose(file_); }
+  Md5Log(const Md5Log&) = delete;
+  Md5Log& operator=(const Md5Log&) = delete;
+
+  // The next MD5 line into `line`; false at the end of the file.
+  bool next(std::string& line) {
+    while (readLine(line))
+      if (line.rfind("MD5 ", 0) == 0) return true;
+    return false;
+  }
+
+ private:
+  bool readLine(std::string& line) {
+    line.clear();
+    int c;
+    while ((c = std::getc(file_)) != EOF && c != '\n') {
+      if (line.size() == kMaxMd5LogLine)
+        throw Error(path_ + ":" + std::to_string(lineNumber_ + 1) + ": line longer than " +
+                    std::to_string(kMaxMd5LogLine) + " bytes (not an MD5 log)");
+      line += static_cast<char>(c);
+    }
+    if (std::ferror(file_)) throw Error(path_ + ": read error: " + std::strerror(errno));
+    if (c == EOF && line.empty()) return false;
+    ++lineNumber_;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  }
+
+  std::string path_;
+  std::FILE* file_;
+  size_t lineNumber_ = 0;
+};
 
 std::string cameraFolder(int camera) {
   return "cam" + std::to_string(camera);
@@ -153,8 +183,9 @@ int main(int argc, char** argv) {
     checkFramePattern(meshPattern, "OutputMeshPattern");
     const auto start = std::chrono::steady_clock::now();
 
-    std::vector<std::string> expected;
-    if (!verifyPath.empty()) expected = readMd5Lines(verifyPath);
+    std::unique_ptr<Md5Log> expected;
+    if (!verifyPath.empty()) expected = std::make_unique<Md5Log>(verifyPath);
+    std::string expectedLine;
     // A folder this run creates is removed again if the run fails (it is empty then: the
     // frames are staged and removed on failure).
     struct CreatedFolder {
@@ -186,11 +217,11 @@ int main(int argc, char** argv) {
     auto report = [&](const std::string& line) {
       std::printf("%s\n", line.c_str());
       if (verifyPath.empty()) return;
-      check(lines < expected.size(), verifyPath + ": has no line for '" + line + "'");
-      check(expected[lines] == line, verifyPath + ": line " + std::to_string(lines + 1) +
-                                         " of its MD5 lines differs: "
-                                         "expected '" +
-                                         expected[lines] + "', decoded '" + line + "'");
+      check(expected->next(expectedLine), verifyPath + ": has no line for '" + line + "'");
+      check(expectedLine == line, verifyPath + ": line " + std::to_string(lines + 1) +
+                                      " of its MD5 lines differs: "
+                                      "expected '" +
+                                      expectedLine + "', decoded '" + line + "'");
       ++lines;
     };
     std::mutex pngMutex;
@@ -229,9 +260,13 @@ int main(int argc, char** argv) {
           std::lock_guard<std::mutex> lock(pngMutex);
           pngs[{frame, camera}] = std::move(png);
         });
-    if (!verifyPath.empty())
-      check(expected.size() == lines, verifyPath + ": has " + std::to_string(expected.size()) +
-                                          " MD5 lines, the stream gives " + std::to_string(lines));
+    if (!verifyPath.empty()) {
+      size_t more = 0;
+      while (expected->next(expectedLine))
+        ++more;
+      check(more == 0, verifyPath + ": has " + std::to_string(lines + more) +
+                           " MD5 lines, the stream gives " + std::to_string(lines));
+    }
     if (!outputDir.empty() && !decoder.sequenceHeader().cameras.empty())
       outputs.write(
           outputDir + "/" + kDatasetFileName,
