@@ -212,6 +212,12 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
   const bool textured = !cameras.empty();
   GomReplay replay;
   auto emit = [&](int frame, const IntMesh& m) { onFrame(frame, m); };
+  // Item i = k * cameras + c is camera c's texture of the GOM's frame k. Whichever worker
+  // needs a unit reads the units up to it, in item order, under a lock; the pictures are
+  // decoded and the shapes rasterised on threads_ threads, at most `cameras` items started and
+  // not yet consumed: item i starts only once item i - cameras (the same camera's previous
+  // picture, through the same H.264 decoder) has been consumed. Callbacks and errors come in
+  // item order on the calling thread, as in a sequential run, for any thread count.
   auto decodeTextures = [&](uint32_t first, uint32_t frames) {
     const size_t count = size_t{frames} * cameras.size();
     // The GOM's frames, made again in order as the items ask for them: each is kept until
