@@ -17,8 +17,7 @@ namespace tdvo {
 // limit (or a device such as /dev/zero that never ends) is refused with an error naming it,
 // after reading at most the limit.
 constexpr uint64_t kMaxCfgFileBytes = uint64_t{1} << 20;     // cfg files, GOM lists
-constexpr uint64_t kMaxTextFileBytes = uint64_t{1} << 26;    // dataset.json, calibration, paths
-constexpr uint64_t kMaxMd5LogBytes = uint64_t{1} << 28;      // 3dvo-dec --verify logs
+constexpr uint64_t kMaxTextFileBytes = uint64_t{1} << 24;    // dataset.json, calibration, paths
 constexpr uint64_t kMaxBinaryFileBytes = uint64_t{1} << 30;  // images, texture files
 
 // Reads a whole file into memory. Throws Error naming the file when it cannot be opened or read,

@@ -1,9 +1,13 @@
 // 3dvo-dec: decodes a .3dvo stream to OBJ frames and prints per-frame MD5 lines.
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -28,23 +32,6 @@ using namespace tdvo;
 
 namespace {
 
-// The "MD5 ..." lines of a log (other lines, e.g. summaries, are ignored).
-std::vector<std::string> readMd5Lines(const std::string& path) {
-  const std::vector<uint8_t> bytes = readFileBytes(path, kMaxMd5LogBytes, "an MD5 log");
-  std::vector<std::string> lines;
-  std::string line;
-  for (size_t i = 0; i <= bytes.size(); ++i) {
-    if (i == bytes.size() || bytes[i] == '\n') {
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      if (line.rfind("MD5 ", 0) == 0) lines.push_back(line);
-      line.clear();
-    } else {
-      line += static_cast<char>(bytes[i]);
-    }
-  }
-  return lines;
-}
-
 // The frame number of an "MD5 frame=<n> ..." line (-1 when it has none).
 int64_t md5LineFrame(const std::string& line) {
   const std::string prefix = "MD5 frame=";
@@ -56,6 +43,62 @@ int64_t md5LineFrame(const std::string& line) {
     n = n * 10 + (line[i] - '0');
   return n;
 }
+
+// The "MD5 ..." lines of a log (other lines, e.g. summaries, are ignored), read one at a time
+// as the decoded lines are compared with them: memory does not grow with the log. A line longer
+// than kMaxMd5LogLine bytes (no MD5 line is) is an error, so a file that never ends a line
+// (/dev/zero) is refused at once.
+constexpr size_t kMaxMd5LogLine = size_t{1} << 16;
+
+class Md5Log {
+ public:
+  explicit Md5Log(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "rb")) {
+    if (!file_) throw Error(path + ": cannot open: " + std::strerror(errno));
+  }
+  ~Md5Log() { std::fclose(file_); }
+  Md5Log(const Md5Log&) = delete;
+  Md5Log& operator=(const Md5Log&) = delete;
+
+  // From now on, next() skips the frame lines of frames outside [first, end) (a decoder frame
+  // range is compared with the log's lines of its frames only).
+  void keepFrames(int64_t first, int64_t end) {
+    first_ = first;
+    end_ = end;
+  }
+
+  // The next MD5 line into `line`; false at the end of the file.
+  bool next(std::string& line) {
+    while (readLine(line)) {
+      if (line.rfind("MD5 ", 0) != 0) continue;
+      const int64_t frame = md5LineFrame(line);
+      if (frame >= 0 && (frame < first_ || frame >= end_)) continue;
+      return true;
+    }
+    return false;
+  }
+
+ private:
+  bool readLine(std::string& line) {
+    line.clear();
+    int c;
+    while ((c = std::getc(file_)) != EOF && c != '\n') {
+      if (line.size() == kMaxMd5LogLine)
+        throw Error(path_ + ":" + std::to_string(lineNumber_ + 1) + ": line longer than " +
+                    std::to_string(kMaxMd5LogLine) + " bytes (not an MD5 log)");
+      line += static_cast<char>(c);
+    }
+    if (std::ferror(file_)) throw Error(path_ + ": read error: " + std::strerror(errno));
+    if (c == EOF && line.empty()) return false;
+    ++lineNumber_;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  }
+
+  std::string path_;
+  std::FILE* file_;
+  size_t lineNumber_ = 0;
+  int64_t first_ = 0, end_ = INT64_MAX;
+};
 
 std::string cameraFolder(int camera) {
   return "cam" + std::to_string(camera);
@@ -193,8 +236,9 @@ int main(int argc, char** argv) {
     checkFramePattern(meshPattern, "OutputMeshPattern");
     const auto start = std::chrono::steady_clock::now();
 
-    std::vector<std::string> expected;
-    if (!verifyPath.empty()) expected = readMd5Lines(verifyPath);
+    std::unique_ptr<Md5Log> expected;
+    if (!verifyPath.empty()) expected = std::make_unique<Md5Log>(verifyPath);
+    std::string expectedLine;
     const bool range = table.wasSet("FirstFrame") || frameCount > 0;
     // Output folders (docs/user-guide.md): a non-empty one is refused unless --Overwrite is
     // given; the output is staged inside and put in place when the run has succeeded, so that
@@ -240,17 +284,14 @@ int main(int argc, char** argv) {
         const int64_t first = table.wasSet("FirstFrame") ? firstFrame : sh.sh_first_frame;
         const int64_t end =
             frameCount > 0 ? first + frameCount : int64_t{sh.sh_first_frame} + sh.sh_frame_count;
-        std::vector<std::string> kept;
-        for (const std::string& e : expected)
-          if (md5LineFrame(e) >= first && md5LineFrame(e) < end) kept.push_back(e);
-        expected.swap(kept);
+        expected->keepFrames(first, end);
         rangeFiltered = true;
       }
-      check(lines < expected.size(), verifyPath + ": has no line for '" + line + "'");
-      check(expected[lines] == line, verifyPath + ": line " + std::to_string(lines + 1) +
-                                         " of its MD5 lines differs: "
-                                         "expected '" +
-                                         expected[lines] + "', decoded '" + line + "'");
+      check(expected->next(expectedLine), verifyPath + ": has no line for '" + line + "'");
+      check(expectedLine == line, verifyPath + ": line " + std::to_string(lines + 1) +
+                                      " of its MD5 lines differs: "
+                                      "expected '" +
+                                      expectedLine + "', decoded '" + line + "'");
       ++lines;
     };
     std::mutex pngMutex;
@@ -289,9 +330,13 @@ int main(int argc, char** argv) {
           std::lock_guard<std::mutex> lock(pngMutex);
           pngs[{frame, camera}] = std::move(png);
         });
-    if (!verifyPath.empty())
-      check(expected.size() == lines, verifyPath + ": has " + std::to_string(expected.size()) +
-                                          " MD5 lines, the stream gives " + std::to_string(lines));
+    if (!verifyPath.empty()) {
+      size_t more = 0;
+      while (expected->next(expectedLine))
+        ++more;
+      check(more == 0, verifyPath + ": has " + std::to_string(lines + more) +
+                           " MD5 lines, the stream gives " + std::to_string(lines));
+    }
     if (!outputDir.empty() && !decoder.sequenceHeader().cameras.empty())
       outputs->write(outputDir + "/" + kDatasetFileName,
                     formatDataset(decodedDataset(decoder, outputDir, meshPattern,

@@ -191,15 +191,14 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
                 " stream bytes, more than the limit of " + std::to_string(limit) +
                 " vertex-frames per stream byte (MaxVertexFramesPerByte)");
   };
-  // Textures: one H.264 decoder per camera; the GOM's decoded meshes (dequantised once per
-  // frame, for all cameras) give the shapes, through each camera's rasteriser set up once.
+  // Textures: one H.264 decoder per camera, made with the camera's first texture unit (so
+  // that their memory follows the units read, not the cameras declared); the GOM's decoded
+  // meshes (dequantised once per frame, for all cameras) give the shapes, through each
+  // camera's rasteriser set up once.
   std::vector<MaskRenderer> cameras;
-  std::vector<std::unique_ptr<H264Decoder>> textureDecoders;
-  for (size_t c = 0; c < sh_.cameras.size(); ++c) {
+  std::vector<std::unique_ptr<H264Decoder>> textureDecoders(sh_.cameras.size());
+  for (size_t c = 0; c < sh_.cameras.size(); ++c)
     cameras.emplace_back(toCamera(sh_.cameras[c], static_cast<int>(c)));
-    textureDecoders.push_back(
-        std::make_unique<H264Decoder>(name_ + ": camera " + std::to_string(c)));
-  }
   // The texture-work limit (kDefaultMaxTexturePixelsPerByte): each camera's pixels, and the
   // camera pixels of the texture units read so far.
   std::vector<uint64_t> cameraPixels;
@@ -236,6 +235,12 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
   auto emit = [&](int frame, const IntMesh& m) {
     if (inRange(static_cast<uint64_t>(frame))) onFrame(frame, m);
   };
+  // Item i = k * cameras + c is camera c's texture of the GOM's frame k. Whichever worker
+  // needs a unit reads the units up to it, in item order, under a lock; the pictures are
+  // decoded and the shapes rasterised on threads_ threads, at most `cameras` items started and
+  // not yet consumed: item i starts only once item i - cameras (the same camera's previous
+  // picture, through the same H.264 decoder) has been consumed. Callbacks and errors come in
+  // item order on the calling thread, as in a sequential run, for any thread count.
   auto decodeTextures = [&](uint32_t first, uint32_t frames) {
     const size_t count = size_t{frames} * cameras.size();
     // The GOM's frames, made again in order as the items ask for them: each is kept until
@@ -261,7 +266,7 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
       TextureUnit tx;
       std::string where;
     };
-    std::vector<Parsed> parsed(count);
+    std::map<size_t, Parsed> parsed;  // units read and not yet taken (a few: not the GOM's)
     std::mutex readMutex;
     size_t unitsRead = 0;          // units read so far
     std::exception_ptr readError;  // what reading unit `unitsRead` threw
@@ -288,7 +293,10 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
         }
       }
       if (unitsRead <= i) std::rethrow_exception(readError);  // item i's own error comes first
-      return std::move(parsed[i]);
+      const auto it = parsed.find(i);
+      Parsed p = std::move(it->second);
+      parsed.erase(it);
+      return p;
     };
     struct Decoded {
       YuvPicture picture;
@@ -301,6 +309,11 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
           const size_t k = i / cameras.size(), c = i % cameras.size();
           const TextureBox box = textureBox(sh_.cameras[c]);
           Decoded d;
+          // Only this item uses camera c's decoder now: the camera's next item starts once this
+          // one has been consumed.
+          if (!textureDecoders[c])
+            textureDecoders[c] =
+                std::make_unique<H264Decoder>(name_ + ": camera " + std::to_string(c));
           try {
             d.picture = textureDecoders[c]->decode(p.tx.tx_access_unit, box.width, box.height);
           } catch (const Error& e) {
