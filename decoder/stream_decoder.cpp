@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "bitstream/camera_parameters.h"
+#include "bitstream/order_syntax.h"
 #include "bitstream/units.h"
 #include "common/error.h"
 #include "common/keyframes.h"
@@ -109,9 +110,14 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
   }
   const Grid textureGrid = grid();
   std::vector<Mesh> gomMeshes;
+  // Frames are decoded in coding order and output in the order of the last VERTEX_ORDER unit.
+  MeshOrder order;
+  IntMesh output;
+  bool canContinue = false;  // the last GOM was of P meshes: the next may continue it
   auto emit = [&](int frame, const IntMesh& m) {
-    onFrame(frame, m);
-    if (!cameras.empty()) gomMeshes.push_back(textureGrid.dequantise(m));
+    applyVertexOrder(order, m.positions, output.positions);
+    onFrame(frame, output);
+    if (!cameras.empty()) gomMeshes.push_back(textureGrid.dequantise(output));
   };
   // Item i = k * cameras + c is camera c's texture of the GOM's frame k. Whichever worker
   // needs a unit reads the units up to it, in item order, under a lock; the pictures are
@@ -194,7 +200,7 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
     if (uint64_t{gh.gh_first_frame} + gh.gh_frame_count > sh_.sh_frame_count)
       throw Error(gomWhere + ": GOM of " + std::to_string(gh.gh_frame_count) +
                   " frames runs past sh_frame_count " + std::to_string(sh_.sh_frame_count));
-    gomStarts_.push_back(gh.gh_first_frame);
+    if (gh.gh_random_access) gomStarts_.push_back(gh.gh_first_frame);
 
     const PMeshMode mode = static_cast<PMeshMode>(gh.gh_pmesh_mode);
     PMeshParams pmParams;
@@ -215,6 +221,18 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
                     std::to_string(frame));
       IntMesh decoded = decodeIMesh(im.im_draco_payload, sh_.sh_grid_bits, where);
       limitDecodingWork(gomWhere, frames, decoded.positions.size());
+      expectUnit(UnitType::kVertexOrder, "after the I mesh of frame " + std::to_string(frame));
+      const VertexOrderUnit vo =
+          parseUnit<VertexOrderUnit>(unit, name_, trace_, "the vertex order");
+      const std::string orderWhere = name_ + ": " + unit.describe();
+      if (vo.vo_frame != frame)
+        throw Error(orderWhere + ": vo_frame " + std::to_string(vo.vo_frame) + " but expected " +
+                    std::to_string(frame));
+      CabacReaderIo reader(vo.vo_cabac_payload.data(), vo.vo_cabac_payload.size(), orderWhere,
+                           trace_);
+      codeMeshOrder(reader, decoded, order, vo.vo_triangle_order != 0);
+      reader.finish();
+      output.triangles = order.triangles;
       return decoded;
     };
 
@@ -222,22 +240,33 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
       for (uint32_t k = 0; k < gh.gh_frame_count; ++k, ++nextFrame)
         emit(static_cast<int>(nextFrame), readIMesh(nextFrame, 1));
       decodeTextures(gh.gh_first_frame);
+      canContinue = false;
       continue;
     }
 
     // Buffers reused through the GOM and the next ones (no allocation per frame): the
     // previous keyframe, the keyframe being decoded, and the frame handed to onFrame.
-    mesh = readIMesh(nextFrame, gh.gh_frame_count);
+    // A GOM that is no random access point continues the previous GOM's connectivity, order
+    // and last frame (`mesh`, `order`, `previous`): its first frame is a P mesh.
+    if (!gh.gh_random_access && !canContinue)
+      throw Error(gomWhere + ": gh_random_access 0, but no previous GOM of P meshes to continue");
+    if (gh.gh_random_access) {
+      mesh = readIMesh(nextFrame, gh.gh_frame_count);
+    } else {
+      limitDecodingWork(gomWhere, gh.gh_frame_count, mesh.positions.size());
+    }
     GomTopology topology;
     if (mode == PMeshMode::kD3dmc) try {
         topology = GomTopology::build(mesh);
       } catch (const Error& e) {  // the I mesh's connectivity: name its unit
         throw Error(name_ + ": " + unit.describe() + ": " + e.what());
       }
-    emit(static_cast<int>(nextFrame), mesh);
-    previous.assign(mesh.positions.begin(), mesh.positions.end());
-    for (size_t n = 1; n < gh.keyframes.size(); ++n) {
-      const int a = gh.keyframes[n - 1], b = gh.keyframes[n];
+    if (gh.gh_random_access) {
+      emit(static_cast<int>(nextFrame), mesh);
+      previous.assign(mesh.positions.begin(), mesh.positions.end());
+    }
+    for (size_t n = gh.gh_random_access ? 1 : 0; n < gh.keyframes.size(); ++n) {
+      const int a = n > 0 ? gh.keyframes[n - 1] : -1, b = gh.keyframes[n];
       const uint32_t frame = gh.gh_first_frame + b;
       expectUnit(UnitType::kPMesh, "for frame " + std::to_string(frame));
       parseUnitInto(unit, name_, trace_, "the P mesh", pm);
@@ -261,6 +290,7 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
     }
     nextFrame += gh.gh_frame_count;
     decodeTextures(gh.gh_first_frame);
+    canContinue = true;
   }
   if (units.next(unit))
     throw Error(name_ + ": " + unit.describe() + ": unit after the last frame (sh_frame_count " +

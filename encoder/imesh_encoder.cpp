@@ -3,6 +3,7 @@
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
 
+#include <algorithm>
 #include <stdexcept>
 #include <unordered_map>
 #include <unordered_set>
@@ -110,7 +111,64 @@ std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& de
   return map;
 }
 
-IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed) {
+MeshOrder inputOrder(const IntMesh& input, const IntMesh& decoded,
+                     const std::vector<uint32_t>& inputIndex) {
+  const uint32_t n = static_cast<uint32_t>(decoded.positions.size());
+  std::vector<uint32_t> byInput(n);
+  for (uint32_t j = 0; j < n; ++j)
+    byInput[j] = j;
+  std::stable_sort(byInput.begin(), byInput.end(),
+                   [&](uint32_t a, uint32_t b) { return inputIndex[a] < inputIndex[b]; });
+  MeshOrder order;
+  order.vertexOutput.resize(n);
+  // Input vertex -> output index of its first decoded copy.
+  std::vector<uint32_t> firstOutput(input.positions.size(), kUnmapped);
+  for (uint32_t o = 0; o < n; ++o) {
+    order.vertexOutput[byInput[o]] = o;
+    uint32_t& f = firstOutput[inputIndex[byInput[o]]];
+    if (f == kUnmapped) f = o;
+  }
+  // Decoded triangles by their output vertices, rotated to start at the smallest index (the
+  // orientation is kept); each list is used from its front.
+  auto canonical = [](Triangle t) {
+    while (t[0] > t[1] || t[0] > t[2])
+      t = Triangle{t[1], t[2], t[0]};
+    return t;
+  };
+  struct TriangleHash {
+    size_t operator()(const Triangle& t) const {
+      return std::hash<uint64_t>()((uint64_t(t[0]) * 0x9E3779B97F4A7C15ull) ^
+                                   (uint64_t(t[1]) << 32 | t[2]));
+    }
+  };
+  std::unordered_map<Triangle, std::vector<uint32_t>, TriangleHash> twins;
+  for (uint32_t t = decoded.triangles.size(); t-- > 0;) {
+    const Triangle& d = decoded.triangles[t];
+    twins[canonical({order.vertexOutput[d[0]], order.vertexOutput[d[1]], order.vertexOutput[d[2]]})]
+        .push_back(t);
+  }
+  std::vector<bool> taken(decoded.triangles.size(), false);
+  for (const Triangle& t : input.triangles) {
+    if (firstOutput[t[0]] == kUnmapped || firstOutput[t[1]] == kUnmapped ||
+        firstOutput[t[2]] == kUnmapped)
+      continue;
+    const Triangle o{firstOutput[t[0]], firstOutput[t[1]], firstOutput[t[2]]};
+    auto it = twins.find(canonical(o));
+    if (it == twins.end() || it->second.empty()) continue;
+    taken[it->second.back()] = true;
+    it->second.pop_back();
+    order.triangles.push_back(o);
+  }
+  for (uint32_t t = 0; t < decoded.triangles.size(); ++t)
+    if (!taken[t]) {
+      const Triangle& d = decoded.triangles[t];
+      order.triangles.push_back(
+          {order.vertexOutput[d[0]], order.vertexOutput[d[1]], order.vertexOutput[d[2]]});
+    }
+  return order;
+}
+
+IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed, bool triangleOrder) {
   draco::Mesh dm;
   dm.set_num_points(static_cast<uint32_t>(mesh.positions.size()));
   for (const Triangle& t : mesh.triangles)
@@ -133,6 +191,22 @@ IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed) {
   out.payload.assign(buffer.data(), buffer.data() + buffer.size());
   out.decoded = decodeIMesh(out.payload, gridBits, "encoder's own I mesh");
   out.inputIndex = recoverVertexOrder(mesh, out.decoded, &out.unmatchedTriangles);
+  out.order = inputOrder(mesh, out.decoded, out.inputIndex);
+  out.triangleOrder = triangleOrder;
+  if (!triangleOrder)
+    for (size_t t = 0; t < out.decoded.triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k)
+        out.order.triangles[t][k] = out.order.vertexOutput[out.decoded.triangles[t][k]];
+  CabacWriterIo writer;
+  codeMeshOrder(writer, out.decoded, out.order, triangleOrder);
+  out.orderPayload = writer.finish();
+  // Closed loop: the decoder's reading of the payload is the order the encoder meant.
+  CabacReaderIo reader(out.orderPayload.data(), out.orderPayload.size(), "encoder's own order");
+  MeshOrder check;
+  codeMeshOrder(reader, out.decoded, check, triangleOrder);
+  reader.finish();
+  if (check.vertexOutput != out.order.vertexOutput || check.triangles != out.order.triangles)
+    throw std::logic_error("vertex order payload does not decode to the encoder's order");
   return out;
 }
 

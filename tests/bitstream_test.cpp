@@ -624,8 +624,8 @@ std::vector<uint8_t> le64(double v) {
 
 TEST(Syntax, SequenceHeaderLimits) {
   const std::string at = "s.3dvo: unit 1, byte ";
-  EXPECT_EQ(sequenceHeaderError(0, {2, 0}),
-            at + "102: sh_syntax_version 2 is not supported (this decoder reads version " +
+  EXPECT_EQ(sequenceHeaderError(0, {1, 0}),
+            at + "102: sh_syntax_version 1 is not supported (this decoder reads version " +
                 std::to_string(kSyntaxVersion) + ")");
   EXPECT_EQ(sequenceHeaderError(2, {0, 0, 0, 0}),
             at + "102: sh_frame_count = 0 out of range [1, " + std::to_string(kMaxFrames) + "]");
