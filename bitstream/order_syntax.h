@@ -9,7 +9,9 @@
 //
 // Vertices, in coding order j = 0 .. n-1: vo_vertex_delta, the output index minus a prediction:
 // the output index of the latest earlier neighbour of j (the largest i < j sharing a triangle
-// with j), else that of vertex j - 1, else 0. Every output index must be new and < n.
+// with j), else that of vertex j - 1, else 0. Output indices are < m = vo_num_vertices (<= n)
+// and each is given at least once: n - m vertices repeat an index taken before (the copies
+// Draco makes of a non-manifold vertex; the output takes the first copy's position).
 // Triangles, in output order i = 0 .. T-1: vo_corner_delta, the output triangle's first vertex
 // minus the previous output triangle's first vertex (0 before the first), then vo_corner_choice,
 // which of the corners at that vertex whose triangle is not yet output it is (the corners listed
@@ -38,7 +40,8 @@
 namespace tdvo {
 
 struct MeshOrder {
-  std::vector<uint32_t> vertexOutput;  // coding-order vertex -> output index (a permutation)
+  uint32_t numVertices = 0;            // output vertices (vo_num_vertices)
+  std::vector<uint32_t> vertexOutput;  // coding-order vertex -> output index, onto [0, numVertices)
   std::vector<Triangle> triangles;     // the output triangle list, in output vertex indices
 };
 
@@ -156,12 +159,12 @@ class CornerSets {
 
 }  // namespace order_detail
 
-// Codes the output order of `decoded` (the I mesh in coding order). Writing, `order` must hold
-// a permutation and a triangle list that outputs every decoded triangle once, rotated only;
-// reading fills it. Io is CabacWriterIo or CabacReaderIo; the Io's finish() is left to the
-// caller.
-// With `triangles` false only the vertices are coded and the output triangles are the decoded
-// ones in coding order and rotation (in output vertex indices).
+// Codes the output order of `decoded` (the I mesh in coding order). order.numVertices is given
+// (vo_num_vertices). Writing, `order` must map the vertices onto [0, numVertices) and hold a
+// triangle list that outputs every decoded triangle once, rotated only; reading fills it. Io is
+// CabacWriterIo or CabacReaderIo; the Io's finish() is left to the caller. With `triangles` false
+// only the vertices are coded and the output triangles are the decoded ones in coding order and
+// rotation (in output vertex indices).
 template <class Io>
 void codeMeshOrder(Io& io, const IntMesh& decoded, MeshOrder& order, bool triangles = true) {
   using namespace order_detail;
@@ -173,6 +176,9 @@ void codeMeshOrder(Io& io, const IntMesh& decoded, MeshOrder& order, bool triang
   }
   io.require(order.vertexOutput.size() == n && order.triangles.size() == numTriangles,
              "output order and I mesh disagree");
+  const uint32_t m = order.numVertices;
+  io.require(m >= 1 && m <= n, "vo_num_vertices " + std::to_string(m) + " is not in [1, " +
+                                   std::to_string(n) + "] (the I mesh's vertex count)");
   OrderContexts ctx;
 
   // Vertices.
@@ -181,19 +187,21 @@ void codeMeshOrder(Io& io, const IntMesh& decoded, MeshOrder& order, bool triang
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b)
         if (t[a] < t[b]) latest[t[b]] = std::max(latest[t[b]], t[a] + 1);
-  std::vector<uint8_t> placed(n, 0);
+  std::vector<uint8_t> placed(m, 0);
+  uint32_t copies = 0;  // vertices given an output index already taken: at most n - m
   int cls = 0;
   for (uint32_t j = 0; j < n; ++j) {
     const int64_t prediction = latest[j] ? order.vertexOutput[latest[j] - 1]
                                : j > 0   ? order.vertexOutput[j - 1]
                                          : 0;
     int64_t delta = Io::kReading ? 0 : int64_t{order.vertexOutput[j]} - prediction;
-    codeSigned(io, "vo_vertex_delta", ctx.vertex[cls], delta, n - 1);
+    codeSigned(io, "vo_vertex_delta", ctx.vertex[cls], delta, m - 1);
     const int64_t out = prediction + delta;
-    io.require(out >= 0 && out < n && !placed[out],
+    const bool inRange = out >= 0 && out < m;
+    copies += inRange && placed[out];
+    io.require(inRange && copies <= n - m,
                "vo_vertex_delta gives output index " + std::to_string(out) + " for vertex " +
-                   std::to_string(j) +
-                   (out >= 0 && out < n ? ", already taken" : ", out of range"));
+                   std::to_string(j) + (inRange ? ", already taken" : ", out of range"));
     placed[out] = 1;
     order.vertexOutput[j] = static_cast<uint32_t>(out);
     cls = OrderContexts::deltaClass(delta);
@@ -212,11 +220,11 @@ void codeMeshOrder(Io& io, const IntMesh& decoded, MeshOrder& order, bool triang
   }
 
   // Triangles: the corners at every vertex, sorted as the choice lists them.
-  std::vector<uint32_t> start(n + 1, 0);
+  std::vector<uint32_t> start(m + 1, 0);
   for (const Triangle& t : decoded.triangles)
     for (uint32_t v : t)
       ++start[out[v] + 1];
-  for (uint32_t v = 0; v < n; ++v)
+  for (uint32_t v = 0; v < m; ++v)
     start[v + 1] += start[v];
   std::vector<uint32_t> corners(start.back());  // 3 * triangle + corner
   {
@@ -231,7 +239,7 @@ void codeMeshOrder(Io& io, const IntMesh& decoded, MeshOrder& order, bool triang
     return std::array<uint32_t, 3>{out[t[(k + 1) % 3]], out[t[(k + 2) % 3]], corner / 3};
   };
   std::vector<uint32_t> position(corners.size());  // corner -> index in its vertex's list
-  for (uint32_t v = 0; v < n; ++v) {
+  for (uint32_t v = 0; v < m; ++v) {
     std::sort(corners.begin() + start[v], corners.begin() + start[v + 1],
               [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
     for (uint32_t i = start[v]; i < start[v + 1]; ++i)
@@ -262,13 +270,13 @@ void codeMeshOrder(Io& io, const IntMesh& decoded, MeshOrder& order, bool triang
     int64_t first = previous[kReuse[reuse < 3 ? reuse : 0]];
     if (reuse == 3) {
       int64_t delta = Io::kReading ? 0 : int64_t{t[0]} - first;
-      codeSigned(io, "vo_corner_delta", ctx.corner[cls], delta, n - 1);
+      codeSigned(io, "vo_corner_delta", ctx.corner[cls], delta, m - 1);
       first += delta;
       cls = 1 + int(delta > 32 || delta < -32);
     } else {
       cls = 0;
     }
-    io.require(first >= 0 && first < n,
+    io.require(first >= 0 && first < m,
                "vo_corner_delta gives vertex " + std::to_string(first) + ", out of range");
     const uint32_t a = static_cast<uint32_t>(first);
     const uint32_t candidates = remaining.remaining(a);
@@ -309,8 +317,8 @@ void codeMeshOrder(Io& io, const IntMesh& decoded, MeshOrder& order, bool triang
 // output index vertexOutput[j]; the triangles are the output list.
 inline void applyVertexOrder(const MeshOrder& order, const std::vector<Vec3i>& coded,
                              std::vector<Vec3i>& output) {
-  output.resize(coded.size());
-  for (size_t j = 0; j < coded.size(); ++j)
+  output.resize(order.numVertices);
+  for (size_t j = coded.size(); j-- > 0;)  // copies: the first one's position
     output[order.vertexOutput[j]] = coded[j];
 }
 

@@ -181,6 +181,7 @@ void transfer(Io& io, IMeshUnit& im) {
 // The output order of the I mesh just before it (order_syntax.h); its payload is CABAC-coded.
 struct VertexOrderUnit {
   uint32_t vo_frame = 0;
+  uint32_t vo_num_vertices = 1;   // output vertices (<= the I mesh's; copies Draco made merge)
   uint8_t vo_triangle_order = 1;  // 1: the input's triangle list is coded; 0: coding order
   std::vector<uint8_t> vo_cabac_payload;
 };
@@ -188,6 +189,7 @@ struct VertexOrderUnit {
 template <class Io>
 void transfer(Io& io, VertexOrderUnit& vo) {
   io.u32("vo_frame", vo.vo_frame, 0, kMaxFrames - 1);
+  io.u32("vo_num_vertices", vo.vo_num_vertices, 1, kMaxVertices);
   io.u8("vo_triangle_order", vo.vo_triangle_order, 0, 1);
   io.rest("vo_cabac_payload", vo.vo_cabac_payload);
 }

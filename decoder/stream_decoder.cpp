@@ -230,6 +230,7 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
                     std::to_string(frame));
       CabacReaderIo reader(vo.vo_cabac_payload.data(), vo.vo_cabac_payload.size(), orderWhere,
                            trace_);
+      order.numVertices = vo.vo_num_vertices;
       codeMeshOrder(reader, decoded, order, vo.vo_triangle_order != 0);
       reader.finish();
       output.triangles = order.triangles;

@@ -161,6 +161,7 @@ class GomCoder {
     out_.units.push_back({UnitType::kIMesh, serialise(std::move(im))});
     VertexOrderUnit vo;
     vo.vo_frame = static_cast<uint32_t>(first_ + k);
+    vo.vo_num_vertices = i.order.numVertices;
     vo.vo_triangle_order = i.triangleOrder ? 1 : 0;
     vo.vo_cabac_payload = i.orderPayload;
     out_.units.push_back({UnitType::kVertexOrder, serialise(std::move(vo))});

@@ -45,11 +45,11 @@ std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& de
                                          size_t* unmatchedTriangles);
 
 // The output order of `decoded` for `input` (docs/bitstream.md, "Output order"): vertices in
-// the input's order (decoded vertices sorted by their input vertex, so that vertices Draco
-// dropped leave no gap and the copies of a vertex Draco split come out next to each other);
-// triangles in the input's order and corner rotation, each input triangle that has a decoded
-// twin (same output vertices, same orientation) taking it; decoded triangles left over (none
-// unless Draco changed the connectivity) follow in coding order.
+// the input's order (vertices Draco dropped leave no gap; the copies Draco made of a
+// non-manifold vertex merge back into it); triangles in the input's order and corner rotation,
+// each input triangle taking its decoded twin (same output vertices, same orientation); an
+// input triangle without one (none unless the matcher above guessed wrong between coincident
+// vertices) takes the next decoded triangle no input triangle took; any still left follow.
 MeshOrder inputOrder(const IntMesh& input, const IntMesh& decoded,
                      const std::vector<uint32_t>& inputIndex);
 

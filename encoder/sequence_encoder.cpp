@@ -53,7 +53,7 @@ class GomWriter {
       }
     if (keepInputIndex_) {
       // Output index -> input vertex.
-      std::vector<uint32_t> index(i.inputIndex.size());
+      std::vector<uint32_t> index(i.order.numVertices);
       for (size_t j = 0; j < index.size(); ++j)
         index[i.order.vertexOutput[j]] = i.inputIndex[j];
       out_.frameInputIndex.push_back(std::move(index));

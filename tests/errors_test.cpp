@@ -814,12 +814,14 @@ CATALOGUE_TEST(I14) {
   // Its vertex order: Draco's order, triangles as decoded.
   const IntMesh decoded = decodeIMesh(draco, kGridBits, "I14");
   MeshOrder order;
+  order.numVertices = static_cast<uint32_t>(decoded.positions.size());
   for (uint32_t v = 0; v < decoded.positions.size(); ++v)
     order.vertexOutput.push_back(v);
   order.triangles = decoded.triangles;
   CabacWriterIo writer;
   codeMeshOrder(writer, decoded, order, false);
   VertexOrderUnit vo;
+  vo.vo_num_vertices = order.numVertices;
   vo.vo_triangle_order = 0;
   vo.vo_cabac_payload = writer.finish();
   units[3].payload = serialise(vo);
@@ -838,7 +840,7 @@ std::vector<uint8_t> vertexOrderPayload(const std::vector<unsigned>& bins, bool 
     ContextModel fresh;
     encoder.encodeBin(sameContext ? shared : fresh, bin);
   }
-  VertexOrderUnit vo;
+  VertexOrderUnit vo = parse<VertexOrderUnit>(baseUnits()[3]);
   vo.vo_cabac_payload = encoder.finish();
   return serialise(vo);
 }
@@ -857,7 +859,7 @@ CATALOGUE_TEST(V02) {
 
 CATALOGUE_TEST(V03) {
   std::vector<Unit> units = baseUnits();
-  units[3].payload[4] = 2;
+  units[3].payload[8] = 2;
   expectUnitsRow("V03", units);
 }
 
@@ -882,9 +884,15 @@ CATALOGUE_TEST(V06) {
   expectUnitsRow("V06", units);
 }
 
+CATALOGUE_TEST(V08) {
+  std::vector<Unit> units = baseUnits();
+  putU32(units[3].payload, 4, 43);  // one more than the I mesh's 42 vertices
+  expectUnitsRow("V08", units);
+}
+
 CATALOGUE_TEST(V07) {
   std::vector<Unit> units = baseUnits();
-  units[3].payload.resize(5);  // vo_frame and vo_triangle_order only
+  units[3].payload.resize(9);  // vo_frame, vo_num_vertices and vo_triangle_order only
   expectUnitsRow("V07", units);
 }
 
