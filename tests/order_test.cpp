@@ -247,6 +247,78 @@ TEST(RandomAccess, ChangedConnectivityStartsARandomAccessPointAnyway) {
   EXPECT_EQ(d.gomStarts, (std::vector<uint32_t>{0, 4}));
 }
 
+// Through the apps: 3dvo-enc, 3dvo-dec, then 3dvo-metrics with its default correspondence
+// (identity, no matching): every decoded vertex is its input vertex, so the vertex RMSE is at
+// most the grid's half-step diagonal (docs/metrics.md, "Vertex correspondence").
+TEST(InputOrder, MetricsNeedNoMatchingForDecodedFrames) {
+  const std::vector<Mesh> frames = shuffledSphere(4, 9);
+  test::TempDir dir("order-metrics");
+  std::filesystem::create_directories(dir.file("in"));
+  for (size_t k = 0; k < frames.size(); ++k)
+    writeObj(framePath(dir.file("in") + "/%04d.obj", static_cast<int>(k)), frames[k]);
+  const std::string bin = TDVO_BIN_DIR;
+  const test::CommandResult enc =
+      test::run(dir, bin + "/3dvo-enc",
+                {"--InputMeshPattern=in/%04d.obj", "--FrameCount=4", "--GOMSize=2",
+                 "--RandomAccessPeriod=0", "--GridBits=12", "-o", "x.3dvo"});
+  ASSERT_EQ(enc.exitCode, 0) << enc.err;
+  const test::CommandResult dec = test::run(dir, bin + "/3dvo-dec", {"-i", "x.3dvo", "-o", "out"});
+  ASSERT_EQ(dec.exitCode, 0) << dec.err;
+  const test::CommandResult metrics =
+      test::run(dir, bin + "/3dvo-metrics", {"-r", "in/%04d.obj", "-t", "out/%04d.obj"});
+  ASSERT_EQ(metrics.exitCode, 0) << metrics.err;
+  const std::vector<std::string> rmse = test::linesStartingWith(metrics.out, "vertex RMSE");
+  ASSERT_EQ(rmse.size(), 1u) << metrics.out;
+  const double value = std::stod(rmse[0].substr(rmse[0].find(':') + 1));
+  const double step = gridForSequence(frames, 12).step;
+  EXPECT_LE(value, step * std::sqrt(3.0) / 2) << metrics.out;
+}
+
+// The decoding-work limit (docs/robustness.md) counts the frames of a GOM that continues the
+// previous one (no I mesh) at its GOM header: a static sequence of two GOMs of 50 frames, the
+// second one costing a few bytes, declares twice the output from hardly more bytes.
+TEST(RandomAccess, DecodingWorkLimitCountsContinuingGoms) {
+  const std::vector<Mesh> frames(100, shuffledSphere(1, 4)[0]);
+  const EncodedSequence coded = encode(frames, PMeshMode::kD3dmc, 50, 0);
+  ASSERT_EQ(countUnits(coded.stream, UnitType::kIMesh), 1u);
+  // Bytes through the I mesh and through the second GOM header.
+  UnitReader reader(coded.stream.data(), coded.stream.size(), "order.3dvo");
+  UnitView unit;
+  uint64_t bytes0 = 0, bytes1 = 0, offset1 = 0, index1 = 0;
+  size_t headers = 0;
+  while (reader.next(unit)) {
+    const uint64_t through = unit.payloadOffset + unit.size + 4;
+    if (unit.type == static_cast<uint8_t>(UnitType::kIMesh)) bytes0 = through;
+    if (unit.type == static_cast<uint8_t>(UnitType::kGomHeader) && ++headers == 2) {
+      bytes1 = through;
+      offset1 = unit.offset;
+      index1 = unit.index;
+    }
+  }
+  const uint64_t n = frames[0].positions.size();
+  const uint64_t need0 = (50 * n + bytes0 - 1) / bytes0, need1 = (100 * n + bytes1 - 1) / bytes1;
+  ASSERT_GT(need1, need0);
+  auto decodeWithLimit = [&](uint64_t limit, std::string& error) {
+    int decoded = 0;
+    try {
+      StreamDecoder decoder(coded.stream.data(), coded.stream.size(), "order.3dvo");
+      decoder.setMaxVertexFramesPerByte(limit);
+      decoder.decode([&](int, const IntMesh&) { ++decoded; });
+    } catch (const Error& e) {
+      error = e.what();
+    }
+    return decoded;
+  };
+  std::string error;
+  EXPECT_EQ(decodeWithLimit(need1, error), 100) << error;
+  EXPECT_EQ(decodeWithLimit(need1 - 1, error), 50);
+  EXPECT_NE(
+      error.find("order.3dvo: unit " + std::to_string(index1) + " (GOM_HEADER) at byte " +
+                 std::to_string(offset1) + ": 50 frames x " + std::to_string(n) + " vertices"),
+      std::string::npos)
+      << error;
+}
+
 // ---- Real data ----
 
 std::vector<Mesh> readFrames(const std::string& pattern, int first, int count) {
