@@ -275,11 +275,18 @@ TEST(InputOrder, MetricsNeedNoMatchingForDecodedFrames) {
 }
 
 // The decoding-work limit (docs/robustness.md) counts the frames of a GOM that continues the
-// previous one (no I mesh) at its GOM header: a static sequence of two GOMs of 50 frames, the
-// second one costing a few bytes, declares twice the output from hardly more bytes.
+// previous one (no I mesh) at its GOM header: a static sequence of two GOMs of 50 frames with
+// two keyframes each, the second GOM costing a few bytes, declares twice the output from
+// hardly more bytes.
 TEST(RandomAccess, DecodingWorkLimitCountsContinuingGoms) {
   const std::vector<Mesh> frames(100, shuffledSphere(1, 4)[0]);
-  const EncodedSequence coded = encode(frames, PMeshMode::kD3dmc, 50, 0);
+  EncoderParams params;
+  params.gomSize = 50;
+  params.frameCount = 100;
+  params.randomAccessPeriod = 0;
+  params.keyframeCount = 2;  // the first and last frame of each GOM
+  const EncodedSequence coded = encodeSequence(params, gridForSequence(frames, params.gridBits),
+                                               frames, {}, [](int, const IntMesh&) {});
   ASSERT_EQ(countUnits(coded.stream, UnitType::kIMesh), 1u);
   // Bytes through the I mesh and through the second GOM header.
   UnitReader reader(coded.stream.data(), coded.stream.size(), "order.3dvo");
