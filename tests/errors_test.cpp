@@ -896,16 +896,16 @@ CATALOGUE_TEST(V07) {
   expectUnitsRow("V07", units);
 }
 
-CATALOGUE_TEST(G13) {
+CATALOGUE_TEST(G15) {
   std::vector<Unit> units = baseUnits();
   units[1].payload[kGhRandomAccess] = 0;
-  expectUnitsRow("G13", units);
+  expectUnitsRow("G15", units);
 }
 
-CATALOGUE_TEST(G14) {
+CATALOGUE_TEST(G16) {
   std::vector<Unit> units = baseUnits();
   units[1].payload[kGhRandomAccess] = 2;
-  expectUnitsRow("G14", units);
+  expectUnitsRow("G16", units);
 }
 
 // ---- P mesh ----
