@@ -204,6 +204,10 @@ struct GomHeader {
   uint16_t gh_frame_count = 1;
   uint8_t gh_pmesh_mode = 0;  // PMeshMode
   // Present unless gh_pmesh_mode is intra:
+  // 1: a random access point, the GOM starts with an I mesh (and its VERTEX_ORDER); 0: the GOM
+  // continues the previous GOM's connectivity, its first frame is a P mesh predicted from the
+  // previous GOM's last frame.
+  uint8_t gh_random_access = 1;
   uint16_t gh_motion_quant_step = 1;  // residual quantiser step, grid units
   uint8_t gh_max_octree_depth = 12;   // d3dmc only; the decoder checks <= sh_grid_bits
   // Keyframes: offsets in the GOM, ascending, first 0 and last gh_frame_count - 1; coded as
@@ -217,6 +221,7 @@ void transfer(Io& io, GomHeader& gh) {
   io.u16("gh_frame_count", gh.gh_frame_count, 1, kMaxGomFrames);
   io.u8("gh_pmesh_mode", gh.gh_pmesh_mode, 0, 2);
   if (gh.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kIntra)) return;
+  io.u8("gh_random_access", gh.gh_random_access, 0, 1);
   io.u16("gh_motion_quant_step", gh.gh_motion_quant_step, 1, kMaxMotionQuantStep);
   if (gh.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kD3dmc))
     io.u8("gh_max_octree_depth", gh.gh_max_octree_depth, 0, 20);
@@ -246,6 +251,22 @@ template <class Io>
 void transfer(Io& io, IMeshUnit& im) {
   io.u32("im_frame", im.im_frame, 0, kMaxFrames - 1);
   io.rest("im_draco_payload", im.im_draco_payload);
+}
+
+// The output order of the I mesh just before it (order_syntax.h); its payload is CABAC-coded.
+struct VertexOrderUnit {
+  uint32_t vo_frame = 0;
+  uint32_t vo_num_vertices = 1;   // output vertices (<= the I mesh's; copies Draco made merge)
+  uint8_t vo_triangle_order = 1;  // 1: the input's triangle list is coded; 0: coding order
+  std::vector<uint8_t> vo_cabac_payload;
+};
+
+template <class Io>
+void transfer(Io& io, VertexOrderUnit& vo) {
+  io.u32("vo_frame", vo.vo_frame, 0, kMaxFrames - 1);
+  io.u32("vo_num_vertices", vo.vo_num_vertices, 1, kMaxVertices);
+  io.u8("vo_triangle_order", vo.vo_triangle_order, 0, 1);
+  io.rest("vo_cabac_payload", vo.vo_cabac_payload);
 }
 
 // A P mesh: positions only, predicted from the previous decoded frame of the GOM; the payload

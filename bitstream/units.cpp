@@ -45,6 +45,8 @@ const char* unitTypeName(uint8_t type) {
       return "P_MESH";
     case UnitType::kTexture:
       return "TEXTURE";
+    case UnitType::kVertexOrder:
+      return "VERTEX_ORDER";
   }
   return "unknown type";
 }

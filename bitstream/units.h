@@ -20,6 +20,7 @@ enum class UnitType : uint8_t {
   kIMesh = 3,
   kPMesh = 4,
   kTexture = 5,
+  kVertexOrder = 6,
 };
 
 const char* unitTypeName(uint8_t type);

@@ -117,7 +117,7 @@ std::vector<int> readGomStarts(const std::string& path) {
 }
 
 std::string formatGomStarts(const std::vector<uint32_t>& starts) {
-  std::string text = "# first frame of each GOM (3dvo-dec)\n";
+  std::string text = "# first frame of each GOM that is a random access point (3dvo-dec)\n";
   for (uint32_t start : starts)
     text += std::to_string(start) + "\n";
   return text;

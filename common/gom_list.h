@@ -38,9 +38,10 @@ GomList parseGomList(const std::string& text, const std::string& name, size_t fr
 // parseGomList does.
 GomList readGomList(const std::string& path, size_t frameCount = 0);
 
-// GOM starts: the first frame of each GOM, as 3dvo-dec writes them (gom_starts.txt beside its
-// output) and 3dvo-render and 3dvo-metrics read them. Integers separated by white space or
-// commas, `#` comments; returned sorted, without repeats. Errors name the file and line.
+// GOM starts: the first frame of each GOM that is a random access point (where decoding can
+// start; every GOM unless RandomAccessPeriod > 1), as 3dvo-dec writes them (gom_starts.txt
+// beside its output) and 3dvo-render and 3dvo-metrics read them. Integers separated by white space
+// or commas, `#` comments; returned sorted, without repeats. Errors name the file and line.
 std::vector<int> readGomStarts(const std::string& path);
 // The GOM starts as text readGomStarts reads: a comment line, then one frame per line.
 std::string formatGomStarts(const std::vector<uint32_t>& starts);

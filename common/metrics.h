@@ -6,8 +6,8 @@
 //    triangles of the other;
 //  - vertex errors between meshes with the same vertex count and a known vertex correspondence:
 //    vertex RMSE, the temporal average error D_A and the KG error (Karni & Gotsman 2004).
-// Decoded 3DVO frames are in Draco's vertex order, not the input order: nearestVertexCorrespondence
-// recovers a correspondence from the positions.
+// Decoded 3DVO frames keep the input's vertex order (identity correspondence); for coders that
+// reorder vertices, nearestVertexCorrespondence recovers a correspondence from the positions.
 //
 // Texture metrics (the end of this file): squared errors and PSNR between a camera's original
 // RGB frame and the decoded one, in BT.601 Y'CbCr computed per pixel, over the object's shape

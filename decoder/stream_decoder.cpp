@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "bitstream/camera_parameters.h"
+#include "bitstream/order_syntax.h"
 #include "bitstream/units.h"
 #include "common/error.h"
 #include "common/keyframes.h"
@@ -70,7 +71,8 @@ struct GomReplay {
   std::string where;  // the GOM header (for messages; none is expected)
   PMeshParams params;
   std::vector<uint16_t> keyframes;
-  IntMesh first;  // the GOM's I mesh (P-mesh GOMs)
+  IntMesh first;  // the GOM's I mesh, or the previous GOM's last frame (P-mesh GOMs)
+  bool continued = false;  // no I mesh: frame 0 is a P mesh predicted from `first`
   GomTopology topology;
   std::vector<std::vector<uint8_t>> payloads;  // per P mesh; per frame in intra GOMs
   uint32_t produced = 0;                       // frames made so far
@@ -83,10 +85,16 @@ struct GomReplay {
     params = p;
     keyframes = keys;
     first = IntMesh();
+    continued = false;
     topology = GomTopology();
     payloads.clear();
     produced = 0;
     n_ = 0;
+  }
+
+  void setFirst(IntMesh mesh, bool continuing) {
+    first = std::move(mesh);
+    continued = continuing;
   }
 
   // The GOM's next frame (frame `produced` before the call).
@@ -101,11 +109,12 @@ struct GomReplay {
       current_ = first;
       previous_ = first.positions;
       n_ = 1;
-      return current_;
+      if (!continued) return current_;  // the I mesh
+      n_ = 0;  // the first P mesh, predicted from the previous GOM's last frame
     }
-    const int a = keyframes[n_ - 1], b = keyframes[n_];
+    const int a = n_ > 0 ? keyframes[n_ - 1] : -1, b = keyframes[n_];
     if (f == a + 1) {
-      const std::vector<uint8_t>& payload = payloads[n_ - 1];
+      const std::vector<uint8_t>& payload = payloads[continued ? n_ : n_ - 1];
       if (mode == PMeshMode::kD3dmc)
         decodePMesh(payload.data(), payload.size(), topology, previous_, params, where, work_,
                     key_);
@@ -232,8 +241,14 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
   const Grid textureGrid = grid();
   const bool textured = !cameras.empty();
   GomReplay replay;
+  // Frames are decoded in coding order and output in the order of the last VERTEX_ORDER unit.
+  MeshOrder order;
+  IntMesh output;
+  bool canContinue = false;  // the last GOM was of P meshes: the next may continue it
   auto emit = [&](int frame, const IntMesh& m) {
-    if (inRange(static_cast<uint64_t>(frame))) onFrame(frame, m);
+    if (!inRange(static_cast<uint64_t>(frame))) return;
+    applyVertexOrder(order, m.positions, output.positions);
+    onFrame(frame, output);
   };
   // Item i = k * cameras + c is camera c's texture of the GOM's frame k. Whichever worker
   // needs a unit reads the units up to it, in item order, under a lock; the pictures are
@@ -344,20 +359,26 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
     if (uint64_t{gh.gh_first_frame} + gh.gh_frame_count > sh_.sh_frame_count)
       throw Error(gomWhere + ": GOM of " + std::to_string(gh.gh_frame_count) +
                   " frames runs past sh_frame_count " + std::to_string(sh_.sh_frame_count));
-    gomStarts_.push_back(gh.gh_first_frame);
+    if (gh.gh_random_access) gomStarts_.push_back(gh.gh_first_frame);
 
-    if (uint64_t{gh.gh_first_frame} + gh.gh_frame_count <= outFirst) {
-      // Before the range: the GOM's units are read (their types checked), not decoded.
-      const bool intra = gh.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kIntra);
-      const size_t meshes = intra ? gh.gh_frame_count : gh.keyframes.size();
-      for (size_t k = 0; k < meshes; ++k)
-        expectUnit(intra || k == 0 ? UnitType::kIMesh : UnitType::kPMesh,
-                   "in the GOM at frame " + std::to_string(gh.gh_first_frame));
+    // Before the range: the GOM's texture units are read (their types checked), not decoded.
+    // Its geometry is skipped the same way in an intra GOM; a GOM of P meshes is decoded
+    // without output, since the next GOM may continue it (no I mesh: not a random access
+    // point).
+    const bool beforeRange = uint64_t{gh.gh_first_frame} + gh.gh_frame_count <= outFirst;
+    auto skipTextures = [&]() {
       for (size_t k = 0; k < size_t{gh.gh_frame_count} * sh_.cameras.size(); ++k) {
         expectUnit(UnitType::kTexture, "in the GOM at frame " + std::to_string(gh.gh_first_frame));
         textureBytes_ += kUnitOverhead + unit.size;
       }
+    };
+    if (beforeRange && gh.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kIntra)) {
+      for (size_t k = 0; k < gh.gh_frame_count; ++k)
+        for (UnitType type : {UnitType::kIMesh, UnitType::kVertexOrder})
+          expectUnit(type, "in the GOM at frame " + std::to_string(gh.gh_first_frame));
+      skipTextures();
       nextFrame += gh.gh_frame_count;
+      canContinue = false;
       continue;
     }
 
@@ -383,6 +404,19 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
       IntMesh decoded = decodeIMesh(im.im_draco_payload, sh_.sh_grid_bits, where);
       limitDecodingWork(gomWhere, frames, decoded.positions.size());
       if (textured && mode == PMeshMode::kIntra) replay.payloads.push_back(im.im_draco_payload);
+      expectUnit(UnitType::kVertexOrder, "after the I mesh of frame " + std::to_string(frame));
+      const VertexOrderUnit vo =
+          parseUnit<VertexOrderUnit>(unit, name_, trace_, "the vertex order");
+      const std::string orderWhere = name_ + ": " + unit.describe();
+      if (vo.vo_frame != frame)
+        throw Error(orderWhere + ": vo_frame " + std::to_string(vo.vo_frame) + " but expected " +
+                    std::to_string(frame));
+      CabacReaderIo reader(vo.vo_cabac_payload.data(), vo.vo_cabac_payload.size(), orderWhere,
+                           trace_);
+      order.numVertices = vo.vo_num_vertices;
+      codeMeshOrder(reader, decoded, order, vo.vo_triangle_order != 0);
+      reader.finish();
+      output.triangles = order.triangles;
       return decoded;
     };
 
@@ -390,23 +424,36 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
       for (uint32_t k = 0; k < gh.gh_frame_count; ++k, ++nextFrame)
         emit(static_cast<int>(nextFrame), readIMesh(nextFrame, 1));
       if (textured) decodeTextures(gh.gh_first_frame, gh.gh_frame_count);
+      canContinue = false;
       continue;
     }
 
     // Buffers reused through the GOM and the next ones (no allocation per frame): the
     // previous keyframe, the keyframe being decoded, and the frame handed to onFrame.
-    mesh = readIMesh(nextFrame, gh.gh_frame_count);
+    // A GOM that is no random access point continues the previous GOM's connectivity, order
+    // and last frame (`mesh`, `order`, `previous`): its first frame is a P mesh.
+    if (!gh.gh_random_access && !canContinue)
+      throw Error(gomWhere + ": gh_random_access 0, but no previous GOM of P meshes to continue");
+    if (gh.gh_random_access) {
+      mesh = readIMesh(nextFrame, gh.gh_frame_count);
+    } else {
+      limitDecodingWork(gomWhere, gh.gh_frame_count, mesh.positions.size());
+    }
     GomTopology topology;
     if (mode == PMeshMode::kD3dmc) try {
         topology = GomTopology::build(mesh);
       } catch (const Error& e) {  // the I mesh's connectivity: name its unit
         throw Error(name_ + ": " + unit.describe() + ": " + e.what());
       }
-    emit(static_cast<int>(nextFrame), mesh);
-    if (textured) replay.first = mesh;
-    previous.assign(mesh.positions.begin(), mesh.positions.end());
-    for (size_t n = 1; n < gh.keyframes.size(); ++n) {
-      const int a = gh.keyframes[n - 1], b = gh.keyframes[n];
+    if (gh.gh_random_access) {
+      emit(static_cast<int>(nextFrame), mesh);
+      previous.assign(mesh.positions.begin(), mesh.positions.end());
+    }
+    // The texture pass makes the GOM's frames again from its first reference: the I mesh, or
+    // the previous GOM's last frame that a continuing GOM's first P mesh is predicted from.
+    if (textured) replay.setFirst(IntMesh{previous, mesh.triangles}, !gh.gh_random_access);
+    for (size_t n = gh.gh_random_access ? 1 : 0; n < gh.keyframes.size(); ++n) {
+      const int a = n > 0 ? gh.keyframes[n - 1] : -1, b = gh.keyframes[n];
       const uint32_t frame = gh.gh_first_frame + b;
       expectUnit(UnitType::kPMesh, "for frame " + std::to_string(frame));
       parseUnitInto(unit, name_, trace_, "the P mesh", pm);
@@ -430,10 +477,13 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
       previous.swap(mesh.positions);  // ... and becomes the reference of the next one
     }
     nextFrame += gh.gh_frame_count;
-    if (textured) {
+    if (beforeRange) {
+      skipTextures();
+    } else if (textured) {
       replay.topology = std::move(topology);
       decodeTextures(gh.gh_first_frame, gh.gh_frame_count);
     }
+    canContinue = true;
   }
   if (units.next(unit))
     throw Error(name_ + ": " + unit.describe() + ": unit after the last frame (sh_frame_count " +

@@ -94,7 +94,8 @@ class StreamDecoder {
   Grid grid() const;
   // Bytes of the TEXTURE units decoded so far (unit headers and CRCs included).
   uint64_t textureBytes() const { return textureBytes_; }
-  // The first frame of every GOM header read so far, in order: where decoding can start.
+  // The first frame of every random access point read so far (intra GOMs and GOMs with
+  // gh_random_access 1), in order: where decoding can start.
   const std::vector<uint32_t>& gomStarts() const { return gomStarts_; }
 
  private:

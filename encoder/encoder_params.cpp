@@ -30,6 +30,10 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.add("GOMListFile", gomListFile,
         "instead of GOMSize: a GOM list file (3dvo-recon's goms.txt): one '<first frame> "
         "<frame count>' line per GOM, frames counted from FirstFrame, tiling the coded frames");
+  t.add("RandomAccessPeriod", randomAccessPeriod, 0, 1000000,
+        "a random access point (an I mesh with its vertex order, decodable on its own) every "
+        "this many GOMs; the GOMs between continue the previous GOM's connectivity with P "
+        "meshes only, where it is unchanged; 0 = only the first GOM (P-mesh modes only)");
   t.addEnum(
       "PMeshMode", pmeshMode,
       {{"d3dmc", PMeshMode::kD3dmc}, {"intra", PMeshMode::kIntra}, {"afxic", PMeshMode::kAfxic}},
@@ -37,6 +41,11 @@ void EncoderParams::registerOptions(OptionTable& t) {
       "clustering, spatial prediction, CABAC); intra = every frame an I mesh; afxic = "
       "P meshes as per-vertex temporal DPCM (AFX-IC-style reference, no clustering)");
   t.add("DracoSpeed", dracoSpeed, 0, 10, "Draco speed for I meshes: 0 = smallest, 10 = fastest");
+  t.add("InputTriangleOrder", inputTriangleOrder,
+        "1: the decoder outputs the input's triangle list (same triangles, order and corner "
+        "rotation); 0: the same triangles in Draco's order and rotation, which saves the "
+        "triangle list's share of the VERTEX_ORDER units (vertices come out in the input's "
+        "order either way)");
   t.section("P meshes (PMeshMode d3dmc)");
   t.add("MotionQuantStep", motionQuantStep, 1, kMaxMotionQuantStep,
         "quantiser step of motion residuals in grid units (1 = lossless on the grid)");

@@ -24,9 +24,11 @@ struct EncoderParams {
   // Geometry
   int gridBits = 12;
   int gomSize = 16;
-  std::string gomListFile;  // when set, the GOMs it lists replace GOMSize (see goms())
+  std::string gomListFile;     // when set, the GOMs it lists replace GOMSize (see goms())
+  int randomAccessPeriod = 1;  // a random access point every this many GOMs (0: first only)
   PMeshMode pmeshMode = PMeshMode::kD3dmc;
   int dracoSpeed = 0;
+  bool inputTriangleOrder = true;  // the decoder outputs the input's triangle list
   // P meshes
   int motionQuantStep = 1;
   double lambda = -1.0;  // < 0: automatic, see effectiveLambda()

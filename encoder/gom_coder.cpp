@@ -19,12 +19,15 @@ namespace {
 class GomCoder {
  public:
   GomCoder(const EncoderParams& params, const Grid& grid, size_t first, std::vector<Mesh> frames,
-           const std::function<std::string(size_t)>& frameName)
+           const std::function<std::string(size_t)>& frameName, const GomContinuation* continuation,
+           GomContinuation* next)
       : params_(params),
         grid_(grid),
         first_(first),
         frames_(std::move(frames)),
-        frameName_(frameName) {
+        frameName_(frameName),
+        continuation_(continuation),
+        next_(next) {
     pmParams_.gridBits = params.gridBits;
     pmParams_.quantStep = params.motionQuantStep;
     pmParams_.maxDepth = std::min(params.maxOctreeDepth, params.gridBits);
@@ -47,7 +50,14 @@ class GomCoder {
         std::vector<Triangle>().swap(inputs[k].triangles);
     }
 
+    const size_t inputVertices = inputs[0].positions.size();
+    // Continue the previous GOM's connectivity (no I mesh) when it is the same.
+    const bool continues = pMeshes && continuation_ && continuation_->iMesh &&
+                           continuation_->inputVertices == inputVertices &&
+                           continuation_->inputTriangles == inputs[0].triangles;
+
     GomHeader gh;
+    gh.gh_random_access = continues ? 0 : 1;
     gh.gh_first_frame = static_cast<uint32_t>(first_);
     gh.gh_frame_count = static_cast<uint16_t>(count);
     gh.gh_pmesh_mode = static_cast<uint8_t>(params_.pmeshMode);
@@ -64,6 +74,7 @@ class GomCoder {
     out_.units.push_back({UnitType::kGomHeader, serialise(gh)});
 
     if (!pMeshes) {
+      if (next_) *next_ = GomContinuation();
       for (size_t k = 0; k < count; ++k) {
         codeIMesh(k, inputs[k]);
         emit(out_.iMeshes.back().decoded.positions, std::move(inputs[k].positions));
@@ -71,12 +82,23 @@ class GomCoder {
       return std::move(out_);
     }
 
-    codeIMesh(0, inputs[0]);
+    if (continues)
+      out_.iMeshes.push_back(*continuation_->iMesh);
+    else
+      codeIMesh(0, inputs[0]);
     const IMeshEncoding& i = out_.iMeshes.back();
     const GomTopology topology =
         params_.pmeshMode == PMeshMode::kD3dmc ? GomTopology::build(i.decoded) : GomTopology();
-    emit(i.decoded.positions, std::move(inputs[0].positions));
-    std::vector<Vec3i> previous = i.decoded.positions, target(i.inputIndex.size());
+    std::vector<Vec3i> previous, target(i.inputIndex.size());
+    if (continues) {
+      // The first frame: a P mesh from the previous GOM's last frame.
+      for (size_t j = 0; j < target.size(); ++j)
+        target[j] = inputs[0].positions[i.inputIndex[j]];
+      previous = codePMesh(0, topology, continuation_->last, target);
+    } else {
+      previous = i.decoded.positions;
+    }
+    emit(previous, std::move(inputs[0].positions));
     for (size_t n = 1; n < gh.keyframes.size(); ++n) {
       const int a = gh.keyframes[n - 1], b = gh.keyframes[n];
       // The keyframe's target in the GOM's vertex order (Draco's decoded order).
@@ -87,6 +109,13 @@ class GomCoder {
         emit(interpolateFrame(previous, key, a, b, f), std::move(inputs[f].positions));
       emit(key, std::move(inputs[b].positions));
       previous = std::move(key);
+    }
+    if (next_) {
+      next_->iMesh = continues ? continuation_->iMesh
+                               : std::make_shared<const IMeshEncoding>(out_.iMeshes.back());
+      next_->inputTriangles = std::move(inputs[0].triangles);
+      next_->inputVertices = inputVertices;
+      next_->last = std::move(previous);
     }
     return std::move(out_);
   }
@@ -114,7 +143,8 @@ class GomCoder {
     for (const Triangle& t : input.triangles)
       check(t[0] != t[1] && t[1] != t[2] && t[0] != t[2],
             name(k) + ": triangle with a repeated vertex (degenerate face)");
-    IMeshEncoding i = encodeIMesh(input, params_.gridBits, params_.dracoSpeed);
+    IMeshEncoding i =
+        encodeIMesh(input, params_.gridBits, params_.dracoSpeed, params_.inputTriangleOrder);
     // Draco does not keep vertices that no triangle uses; say so rather than drop them quietly.
     if (i.decoded.positions.size() != input.positions.size())
       out_.warnings.push_back(name(k) + ": " + std::to_string(input.positions.size()) +
@@ -129,6 +159,12 @@ class GomCoder {
     im.im_frame = static_cast<uint32_t>(first_ + k);
     im.im_draco_payload = i.payload;
     out_.units.push_back({UnitType::kIMesh, serialise(std::move(im))});
+    VertexOrderUnit vo;
+    vo.vo_frame = static_cast<uint32_t>(first_ + k);
+    vo.vo_num_vertices = i.order.numVertices;
+    vo.vo_triangle_order = i.triangleOrder ? 1 : 0;
+    vo.vo_cabac_payload = i.orderPayload;
+    out_.units.push_back({UnitType::kVertexOrder, serialise(std::move(vo))});
     out_.iMeshes.push_back(std::move(i));
   }
 
@@ -169,6 +205,8 @@ class GomCoder {
   size_t first_;
   std::vector<Mesh> frames_;  // released frame by frame as they are quantised
   const std::function<std::string(size_t)>& frameName_;
+  const GomContinuation* continuation_;
+  GomContinuation* next_;
   PMeshParams pmParams_;
   PMeshWorkspace work_;         // the closed-loop decoder's buffers, reused frame to frame
   std::vector<Vec3i> decoded_;  // its output
@@ -179,9 +217,10 @@ class GomCoder {
 
 GomGeometry encodeGomGeometry(const EncoderParams& params, const Grid& grid, size_t first,
                               std::vector<Mesh> frames,
-                              const std::function<std::string(size_t)>& frameName) {
+                              const std::function<std::string(size_t)>& frameName,
+                              const GomContinuation* continuation, GomContinuation* next) {
   check(!frames.empty(), "a GOM needs at least one frame");
-  return GomCoder(params, grid, first, std::move(frames), frameName).code();
+  return GomCoder(params, grid, first, std::move(frames), frameName, continuation, next).code();
 }
 
 }  // namespace tdvo

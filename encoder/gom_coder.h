@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,12 +36,27 @@ struct GomGeometry {
   std::vector<std::string> warnings;   // for stderr, in the order a sequential run meets them
 };
 
+// What a GOM of P meshes leaves for the next GOM, which may continue its connectivity instead
+// of starting a random access point (RandomAccessPeriod).
+struct GomContinuation {
+  std::shared_ptr<const IMeshEncoding> iMesh;  // the connectivity and vertex order in use
+  std::vector<Triangle> inputTriangles;        // the input connectivity it was made from
+  size_t inputVertices = 0;
+  std::vector<Vec3i> last;  // the GOM's last reconstructed frame (coding order)
+};
+
 // Codes frames first .. first + frames.size() - 1 of a sequence as one GOM (`frames` are the
 // GOM's input meshes, taken over and released as soon as they are on the grid). `frameName(k)`
 // names sequence frame k in error messages. Throws Error on input the codec cannot represent
 // (connectivity changing inside a GOM of P meshes, degenerate triangles).
+// With `continuation` (from the previous GOM, P-mesh modes only) the GOM continues that GOM's
+// connectivity without an I mesh when its first frame's connectivity equals it, else it starts
+// a random access point anyway; without, it is a random access point. `next`, when given,
+// receives what the following GOM may continue.
 GomGeometry encodeGomGeometry(const EncoderParams& params, const Grid& grid, size_t first,
                               std::vector<Mesh> frames,
-                              const std::function<std::string(size_t)>& frameName);
+                              const std::function<std::string(size_t)>& frameName,
+                              const GomContinuation* continuation = nullptr,
+                              GomContinuation* next = nullptr);
 
 }  // namespace tdvo

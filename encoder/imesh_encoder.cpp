@@ -3,6 +3,7 @@
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
 
+#include <algorithm>
 #include <stdexcept>
 #include <unordered_map>
 #include <unordered_set>
@@ -82,22 +83,88 @@ std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& de
   };
   propagate();
 
-  // Step 3: an indistinguishable leftover takes any input vertex at the same position, unused
-  // ones first, and step 2 then continues from it. Resuming the flood fill after every choice
-  // keeps a component consistent: two coincident copies of a surface map copy to copy instead
-  // of mixing vertices of both (which would tear the GOM's P meshes apart when they separate).
-  for (uint32_t j = 0; j < map.size(); ++j) {
-    if (map[j] != kUnmapped) continue;
-    const std::vector<uint32_t>& candidates = byPosition[positionKey(decoded.positions[j])];
-    map[j] = candidates[0];
-    for (uint32_t c : candidates)
-      if (!used[c]) {
-        map[j] = c;
-        break;
-      }
-    used[map[j]] = true;
+  // Step 3: a leftover takes an input vertex at the same position, and step 2 then continues
+  // from it. Leftovers next to mapped vertices come first, each taking the candidate whose input
+  // edges agree with most of its mapped neighbours (on a seam, the copy on the right side);
+  // only when none is left does the next leftover in order take any candidate, unused ones
+  // first. Resuming the flood fill after every choice keeps a component consistent: two
+  // coincident copies of a surface map copy to copy instead of mixing vertices of both (which
+  // would tear the GOM's P meshes apart when they separate).
+  auto score = [&](uint32_t j, uint32_t c) {
+    int agree = 0;
+    for (uint32_t ti : incident[j])
+      for (uint32_t x : decoded.triangles[ti])
+        if (x != j && map[x] != kUnmapped)
+          agree +=
+              int(thirdVertex.count(edgeKey(map[x], c)) + thirdVertex.count(edgeKey(c, map[x])));
+    return agree;
+  };
+  std::vector<uint32_t> frontier;
+  auto settle = [&](uint32_t j, uint32_t c) {
+    map[j] = c;
+    used[c] = true;
     queue.push_back(j);
-    propagate();
+    // The flood fill, noting the vertices it maps so that their open neighbours are tried next.
+    std::vector<uint32_t> mapped{j};
+    while (!queue.empty()) {
+      const uint32_t v = queue.back();
+      queue.pop_back();
+      for (uint32_t ti : incident[v]) {
+        const Triangle& t = decoded.triangles[ti];
+        for (int k = 0; k < 3; ++k) {
+          const uint32_t x = t[k], y = t[(k + 1) % 3], z = t[(k + 2) % 3];
+          if (map[z] != kUnmapped || map[x] == kUnmapped || map[y] == kUnmapped) continue;
+          auto it = thirdVertex.find(edgeKey(map[x], map[y]));
+          if (it == thirdVertex.end() || input.positions[it->second] != decoded.positions[z])
+            continue;
+          map[z] = it->second;
+          used[map[z]] = true;
+          queue.push_back(z);
+          mapped.push_back(z);
+        }
+      }
+    }
+    for (uint32_t v : mapped)
+      for (uint32_t ti : incident[v])
+        for (uint32_t x : decoded.triangles[ti])
+          if (map[x] == kUnmapped) frontier.push_back(x);
+  };
+  auto best = [&](uint32_t j, int& bestScore) {
+    const std::vector<uint32_t>& candidates = byPosition[positionKey(decoded.positions[j])];
+    bool anyUnused = false;
+    for (uint32_t c : candidates)
+      anyUnused = anyUnused || !used[c];
+    uint32_t choice = candidates[0];
+    bestScore = -1;
+    for (uint32_t c : candidates) {
+      if (anyUnused && used[c]) continue;
+      const int sc = score(j, c);
+      if (sc > bestScore) {
+        bestScore = sc;
+        choice = c;
+      }
+    }
+    return choice;
+  };
+  for (uint32_t j = 0; j < map.size(); ++j)
+    if (map[j] != kUnmapped)
+      for (uint32_t ti : incident[j])
+        for (uint32_t x : decoded.triangles[ti])
+          if (map[x] == kUnmapped) frontier.push_back(x);
+  for (uint32_t next = 0;;) {
+    while (!frontier.empty()) {
+      const uint32_t j = frontier.back();
+      frontier.pop_back();
+      if (map[j] != kUnmapped) continue;
+      int bestScore = 0;
+      const uint32_t c = best(j, bestScore);
+      if (bestScore > 0) settle(j, c);
+    }
+    while (next < map.size() && map[next] != kUnmapped)
+      ++next;
+    if (next == map.size()) break;
+    int bestScore = 0;
+    settle(next, best(next, bestScore));
   }
 
   if (unmatchedTriangles) {
@@ -110,7 +177,84 @@ std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& de
   return map;
 }
 
-IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed) {
+MeshOrder inputOrder(const IntMesh& input, const IntMesh& decoded,
+                     const std::vector<uint32_t>& inputIndex) {
+  const uint32_t n = static_cast<uint32_t>(decoded.positions.size());
+  std::vector<uint32_t> byInput(n);
+  for (uint32_t j = 0; j < n; ++j)
+    byInput[j] = j;
+  std::stable_sort(byInput.begin(), byInput.end(),
+                   [&](uint32_t a, uint32_t b) { return inputIndex[a] < inputIndex[b]; });
+  // Output index of each input vertex Draco kept (copies Draco made of one merge again).
+  MeshOrder order;
+  order.vertexOutput.resize(n);
+  std::vector<uint32_t> firstOutput(input.positions.size(), kUnmapped);
+  for (uint32_t o = 0; o < n; ++o) {
+    uint32_t& f = firstOutput[inputIndex[byInput[o]]];
+    if (f == kUnmapped) f = order.numVertices++;
+    order.vertexOutput[byInput[o]] = f;
+  }
+  // Decoded triangles by their output vertices, rotated to start at the smallest index (the
+  // orientation is kept); each list is used from its front.
+  auto canonical = [](Triangle t) {
+    while (t[0] > t[1] || t[0] > t[2])
+      t = Triangle{t[1], t[2], t[0]};
+    return t;
+  };
+  struct TriangleHash {
+    size_t operator()(const Triangle& t) const {
+      return std::hash<uint64_t>()((uint64_t(t[0]) * 0x9E3779B97F4A7C15ull) ^
+                                   (uint64_t(t[1]) << 32 | t[2]));
+    }
+  };
+  std::unordered_map<Triangle, std::vector<uint32_t>, TriangleHash> twins;
+  for (uint32_t t = decoded.triangles.size(); t-- > 0;) {
+    const Triangle& d = decoded.triangles[t];
+    twins[canonical({order.vertexOutput[d[0]], order.vertexOutput[d[1]], order.vertexOutput[d[2]]})]
+        .push_back(t);
+  }
+  // Each input triangle takes its twin; those without one take, in order, the decoded
+  // triangles no input triangle took (so that one mismatch does not shift the rest); decoded
+  // triangles still left follow.
+  constexpr uint32_t kNone = UINT32_MAX;
+  std::vector<uint32_t> twin(input.triangles.size(), kNone);
+  std::vector<bool> taken(decoded.triangles.size(), false);
+  for (size_t i = 0; i < input.triangles.size(); ++i) {
+    const Triangle& t = input.triangles[i];
+    if (firstOutput[t[0]] == kUnmapped || firstOutput[t[1]] == kUnmapped ||
+        firstOutput[t[2]] == kUnmapped)
+      continue;
+    auto it = twins.find(canonical({firstOutput[t[0]], firstOutput[t[1]], firstOutput[t[2]]}));
+    if (it == twins.end() || it->second.empty()) continue;
+    twin[i] = it->second.back();
+    taken[twin[i]] = true;
+    it->second.pop_back();
+  }
+  auto asOutput = [&](uint32_t t) {
+    const Triangle& d = decoded.triangles[t];
+    return Triangle{order.vertexOutput[d[0]], order.vertexOutput[d[1]], order.vertexOutput[d[2]]};
+  };
+  uint32_t leftover = 0;
+  auto nextLeftover = [&]() {
+    while (leftover < decoded.triangles.size() && taken[leftover])
+      ++leftover;
+    return leftover < decoded.triangles.size() ? leftover++ : kNone;
+  };
+  for (size_t i = 0; i < input.triangles.size(); ++i) {
+    const Triangle& t = input.triangles[i];
+    if (twin[i] != kNone) {
+      order.triangles.push_back({firstOutput[t[0]], firstOutput[t[1]], firstOutput[t[2]]});
+    } else {
+      const uint32_t d = nextLeftover();
+      if (d != kNone) order.triangles.push_back(asOutput(d));
+    }
+  }
+  for (uint32_t d = nextLeftover(); d != kNone; d = nextLeftover())
+    order.triangles.push_back(asOutput(d));
+  return order;
+}
+
+IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed, bool triangleOrder) {
   draco::Mesh dm;
   dm.set_num_points(static_cast<uint32_t>(mesh.positions.size()));
   for (const Triangle& t : mesh.triangles)
@@ -133,6 +277,23 @@ IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed) {
   out.payload.assign(buffer.data(), buffer.data() + buffer.size());
   out.decoded = decodeIMesh(out.payload, gridBits, "encoder's own I mesh");
   out.inputIndex = recoverVertexOrder(mesh, out.decoded, &out.unmatchedTriangles);
+  out.order = inputOrder(mesh, out.decoded, out.inputIndex);
+  out.triangleOrder = triangleOrder;
+  if (!triangleOrder)
+    for (size_t t = 0; t < out.decoded.triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k)
+        out.order.triangles[t][k] = out.order.vertexOutput[out.decoded.triangles[t][k]];
+  CabacWriterIo writer;
+  codeMeshOrder(writer, out.decoded, out.order, triangleOrder);
+  out.orderPayload = writer.finish();
+  // Closed loop: the decoder's reading of the payload is the order the encoder meant.
+  CabacReaderIo reader(out.orderPayload.data(), out.orderPayload.size(), "encoder's own order");
+  MeshOrder check;
+  check.numVertices = out.order.numVertices;
+  codeMeshOrder(reader, out.decoded, check, triangleOrder);
+  reader.finish();
+  if (check.vertexOutput != out.order.vertexOutput || check.triangles != out.order.triangles)
+    throw std::logic_error("vertex order payload does not decode to the encoder's order");
   return out;
 }
 

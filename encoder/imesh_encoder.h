@@ -18,23 +18,39 @@
 #include <cstdint>
 #include <vector>
 
+#include "bitstream/order_syntax.h"
 #include "common/mesh.h"
 
 namespace tdvo {
 
 struct IMeshEncoding {
-  std::vector<uint8_t> payload;      // im_draco_payload
-  IntMesh decoded;                   // what every decoder reconstructs
-  std::vector<uint32_t> inputIndex;  // decoded vertex -> input vertex
-  size_t unmatchedTriangles = 0;     // decoded triangles with no input twin (should be 0)
+  std::vector<uint8_t> payload;       // im_draco_payload
+  IntMesh decoded;                    // what every decoder reconstructs
+  std::vector<uint32_t> inputIndex;   // decoded vertex -> input vertex
+  size_t unmatchedTriangles = 0;      // decoded triangles with no input twin (should be 0)
+  MeshOrder order;                    // the output order (inputOrder below)
+  std::vector<uint8_t> orderPayload;  // vo_cabac_payload
+  bool triangleOrder = true;          // vo_triangle_order
 };
 
 // Encodes `mesh` (grid integers, coordinates < 2^gridBits) losslessly. `dracoSpeed` is Draco's
-// encoding/decoding speed option (0 = best compression, 10 = fastest).
-IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed);
+// encoding/decoding speed option (0 = best compression, 10 = fastest). With `triangleOrder`
+// the output order keeps the input's triangle list, else the triangles come out in coding
+// order (vertices in the input's order either way).
+IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed,
+                          bool triangleOrder = true);
 
 // Step 1-3 above, exposed for tests: maps each vertex of `decoded` to a vertex of `input`.
 std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& decoded,
                                          size_t* unmatchedTriangles);
+
+// The output order of `decoded` for `input` (docs/bitstream.md, "Output order"): vertices in
+// the input's order (vertices Draco dropped leave no gap; the copies Draco made of a
+// non-manifold vertex merge back into it); triangles in the input's order and corner rotation,
+// each input triangle taking its decoded twin (same output vertices, same orientation); an
+// input triangle without one (none unless the matcher above guessed wrong between coincident
+// vertices) takes the next decoded triangle no input triangle took; any still left follow.
+MeshOrder inputOrder(const IntMesh& input, const IntMesh& decoded,
+                     const std::vector<uint32_t>& inputIndex);
 
 }  // namespace tdvo

@@ -51,9 +51,19 @@ class GomWriter {
         out_.sumSquaredError += double(e) * double(e);
         out_.maxAbsError = std::max(out_.maxAbsError, e < 0 ? -e : e);
       }
-    if (keepInputIndex_) out_.frameInputIndex.push_back(i.inputIndex);
+    if (keepInputIndex_) {
+      // Output index -> input vertex.
+      std::vector<uint32_t> index(i.order.numVertices);
+      for (size_t j = 0; j < index.size(); ++j)
+        index[i.order.vertexOutput[j]] = i.inputIndex[j];
+      out_.frameInputIndex.push_back(std::move(index));
+    }
     out_.vertexFrames += f.positions.size();
-    gomDecoded_.push_back(IntMesh{f.positions, i.decoded.triangles});
+    // The frame as the decoder outputs it: in the input's order.
+    IntMesh output;
+    applyVertexOrder(i.order, f.positions, output.positions);
+    output.triangles = i.order.triangles;
+    gomDecoded_.push_back(std::move(output));
     onFrame_(static_cast<int>(frame), gomDecoded_.back());
     if (!textures_) gomDecoded_.clear();  // kept only for the GOM's textures
   }
@@ -161,23 +171,47 @@ EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
     return source.name ? source.name(k) : "frame " + std::to_string(k);
   };
   GomWriter writer(grid, onFrame, textures, onTexture, units, out, keepInputIndex);
-  orderedParallelFor<GomGeometry>(
-      goms.size(), threads, 2 * static_cast<size_t>(threads),
-      [&](size_t g) {
-        const size_t first = static_cast<size_t>(goms[g].first);
-        const size_t count = static_cast<size_t>(goms[g].second);
-        std::vector<Mesh> frames;
-        frames.reserve(count);
-        for (size_t k = 0; k < count; ++k)
-          frames.push_back(source.read(first + k));
-        return encodeGomGeometry(params, grid, first, std::move(frames), frameName);
+  // Runs of GOMs from one random access point to the next (RandomAccessPeriod; P-mesh modes
+  // only) are coded one after the other in a task, as each GOM of a run may continue the
+  // previous one's connectivity; runs are independent.
+  std::vector<std::pair<size_t, size_t>> runs;  // first GOM, GOM count
+  const size_t period = params.pmeshMode == PMeshMode::kIntra || params.randomAccessPeriod == 1
+                            ? 1
+                            : static_cast<size_t>(params.randomAccessPeriod);
+  for (size_t g = 0; g < goms.size(); ++g)
+    if (runs.empty() || (period != 0 && g % period == 0))
+      runs.emplace_back(g, 1);
+    else
+      ++runs.back().second;
+  orderedParallelFor<std::vector<GomGeometry>>(
+      runs.size(), threads, 2 * static_cast<size_t>(threads),
+      [&](size_t r) {
+        std::vector<GomGeometry> coded;
+        GomContinuation continuation;
+        for (size_t g = runs[r].first; g < runs[r].first + runs[r].second; ++g) {
+          const size_t first = static_cast<size_t>(goms[g].first);
+          const size_t count = static_cast<size_t>(goms[g].second);
+          std::vector<Mesh> frames;
+          frames.reserve(count);
+          for (size_t k = 0; k < count; ++k)
+            frames.push_back(source.read(first + k));
+          const bool last = g + 1 == runs[r].first + runs[r].second;
+          coded.push_back(encodeGomGeometry(params, grid, first, std::move(frames), frameName,
+                                            g == runs[r].first ? nullptr : &continuation,
+                                            last ? nullptr : &continuation));
+        }
+        return coded;
       },
-      [&](size_t g, GomGeometry& gom) { writer.write(static_cast<size_t>(goms[g].first), gom); });
+      [&](size_t r, std::vector<GomGeometry>& coded) {
+        for (size_t i = 0; i < coded.size(); ++i)
+          writer.write(static_cast<size_t>(goms[runs[r].first + i].first), coded[i]);
+      });
 
   out.headerBytes = units.bytesOfType(UnitType::kSequenceHeader) +
                     units.bytesOfType(UnitType::kGomHeader) + sizeof kStreamMagic;
   out.iMeshBytes = units.bytesOfType(UnitType::kIMesh);
   out.pMeshBytes = units.bytesOfType(UnitType::kPMesh);
+  out.orderBytes = units.bytesOfType(UnitType::kVertexOrder);
   out.textureBytes = units.bytesOfType(UnitType::kTexture);
   out.stream = units.bytes();
   return out;

@@ -17,10 +17,12 @@ namespace tdvo {
 
 struct EncodedSequence {
   std::vector<uint8_t> stream;
-  // Per frame: decoded vertex index -> input vertex index (the GOM's vertex order, see
-  // imesh_encoder.h). Lets tests and metrics compare decoded frames with the input.
+  // Per frame: output vertex index -> input vertex index (the identity unless Draco dropped
+  // unused vertices or split non-manifold ones). Lets tests and metrics compare decoded frames
+  // with the input.
   std::vector<std::vector<uint32_t>> frameInputIndex;
   uint64_t headerBytes = 0, iMeshBytes = 0, pMeshBytes = 0, textureBytes = 0;
+  uint64_t orderBytes = 0;    // VERTEX_ORDER units
   uint64_t vertexFrames = 0;  // sum over frames of the decoded vertex count
   // Reconstruction error against the input quantised to the grid, in grid units, over all
   // vertex coordinates of all frames (0 and 0 when coding is lossless on the grid).

@@ -40,6 +40,9 @@ void walk(const uint8_t* data, size_t size) {
           case tdvo::UnitType::kPMesh:
             parse<tdvo::PMeshUnit>(unit);
             break;
+          case tdvo::UnitType::kVertexOrder:
+            parse<tdvo::VertexOrderUnit>(unit);
+            break;
           default:  // unknown to the container: the decoder rejects it by type
             break;
         }

@@ -30,6 +30,7 @@
 #include "common/error.h"
 #include "common/image.h"
 #include "common/obj_io.h"
+#include "decoder/imesh_decoder.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/h264_encoder.h"
 #include "encoder/imesh_encoder.h"
@@ -166,8 +167,8 @@ void putF64(std::vector<uint8_t>& p, size_t at, double v) {
 // Byte offsets of fields in the payloads (docs/bitstream.md, sections 2 and 3).
 constexpr size_t kShVersion = 0, kShFirstFrame = 2, kShFrameCount = 6, kShFrameRate = 10,
                  kShGridBits = 18, kShOrigin = 19, kShStep = 43;
-constexpr size_t kGhFirstFrame = 0, kGhFrameCount = 4, kGhMode = 6, kGhQuantStep = 7, kGhDepth = 9,
-                 kGhNumKeyframes = 10, kGhDelta = 12;
+constexpr size_t kGhFirstFrame = 0, kGhFrameCount = 4, kGhMode = 6, kGhRandomAccess = 7,
+                 kGhQuantStep = 8, kGhDepth = 10, kGhNumKeyframes = 11, kGhDelta = 13;
 
 constexpr int kFrames = 6, kGridBits = 10;
 
@@ -329,15 +330,16 @@ std::vector<Unit> staticSheetUnits(int n, uint16_t gomFrames, int goms) {
   std::vector<Unit> units = split(encodeSequence(params, gridForSequence(frames, kGridBits), frames,
                                                  {}, [](int, const IntMesh&) {})
                                       .stream);
-  EXPECT_EQ(units.size(), 1u + 3u * goms);  // SH, then GH, I, P per GOM
+  EXPECT_EQ(units.size(), 1u + 4u * goms);  // SH, then GH, I, VO, P per GOM
   putU32(units[0].payload, kShFrameCount, uint32_t{gomFrames} * goms);
   for (int g = 0; g < goms; ++g) {
     const uint32_t first = uint32_t{gomFrames} * g;
-    putU32(units[1 + 3 * g].payload, kGhFirstFrame, first);
-    putU16(units[1 + 3 * g].payload, kGhFrameCount, gomFrames);
-    putU16(units[1 + 3 * g].payload, kGhDelta, static_cast<uint16_t>(gomFrames - 1));
-    putU32(units[2 + 3 * g].payload, 0, first);                  // im_frame
-    putU32(units[3 + 3 * g].payload, 0, first + gomFrames - 1);  // pm_frame
+    putU32(units[1 + 4 * g].payload, kGhFirstFrame, first);
+    putU16(units[1 + 4 * g].payload, kGhFrameCount, gomFrames);
+    putU16(units[1 + 4 * g].payload, kGhDelta, static_cast<uint16_t>(gomFrames - 1));
+    putU32(units[2 + 4 * g].payload, 0, first);                  // im_frame
+    putU32(units[3 + 4 * g].payload, 0, first);                  // vo_frame
+    putU32(units[4 + 4 * g].payload, 0, first + gomFrames - 1);  // pm_frame
   }
   return units;
 }
@@ -493,8 +495,8 @@ TEST(Catalogue, BaseStreamDecodes) {
   decoder.decode([&](int, const IntMesh&) { ++frames; });
   EXPECT_EQ(frames, kFrames);
   const std::vector<Unit> units = baseUnits();
-  ASSERT_EQ(units.size(), 9u);
-  const uint8_t expected[9] = {1, 2, 3, 4, 4, 2, 3, 4, 4};
+  ASSERT_EQ(units.size(), 11u);
+  const uint8_t expected[11] = {1, 2, 3, 6, 4, 4, 2, 3, 6, 4, 4};
   for (size_t i = 0; i < units.size(); ++i)
     EXPECT_EQ(units[i].type, expected[i]) << i;
 }
@@ -588,7 +590,7 @@ CATALOGUE_TEST(S11) {
 
 CATALOGUE_TEST(S12) {
   std::vector<Unit> units = baseUnits();
-  units.push_back(units[5]);
+  units.push_back(units[6]);
   expectUnitsRow("S12", units);
 }
 
@@ -677,7 +679,7 @@ CATALOGUE_TEST(G01) {
   putU32(units[1].payload, kGhFirstFrame, 1);
   expectUnitsRow("G01", units);
   units = baseUnits();
-  putU32(units[5].payload, kGhFirstFrame, 2);  // the second GOM overlaps the first
+  putU32(units[6].payload, kGhFirstFrame, 2);  // the second GOM overlaps the first
   expectUnitsRow("G01", units);
 }
 
@@ -749,7 +751,7 @@ CATALOGUE_TEST(G10) {
 
 CATALOGUE_TEST(G11) {
   std::vector<Unit> units = baseUnits();
-  units.erase(units.begin() + 5);  // the second GOM header: its I mesh comes instead
+  units.erase(units.begin() + 6);  // the second GOM header: its I mesh comes instead
   expectUnitsRow("G11", units);
 }
 
@@ -779,7 +781,7 @@ CATALOGUE_TEST(I01) {
   putU32(units[2].payload, 0, 4);
   expectUnitsRow("I01", units);
   units = baseUnits();
-  putU32(units[6].payload, 0, 5);
+  putU32(units[7].payload, 0, 5);
   expectUnitsRow("I01", units);
 }
 
@@ -889,8 +891,22 @@ CATALOGUE_TEST(I14) {
   draco::EncoderBuffer buffer;
   ASSERT_TRUE(encoder.EncodeMeshToBuffer(m, &buffer).ok());
   std::vector<Unit> units = baseUnits();
-  units[2].payload =
-      iMeshUnitPayload(0, std::vector<uint8_t>(buffer.data(), buffer.data() + buffer.size()));
+  const std::vector<uint8_t> draco(buffer.data(), buffer.data() + buffer.size());
+  units[2].payload = iMeshUnitPayload(0, draco);
+  // Its vertex order: Draco's order, triangles as decoded.
+  const IntMesh decoded = decodeIMesh(draco, kGridBits, "I14");
+  MeshOrder order;
+  order.numVertices = static_cast<uint32_t>(decoded.positions.size());
+  for (uint32_t v = 0; v < decoded.positions.size(); ++v)
+    order.vertexOutput.push_back(v);
+  order.triangles = decoded.triangles;
+  CabacWriterIo writer;
+  codeMeshOrder(writer, decoded, order, false);
+  VertexOrderUnit vo;
+  vo.vo_num_vertices = order.numVertices;
+  vo.vo_triangle_order = 0;
+  vo.vo_cabac_payload = writer.finish();
+  units[3].payload = serialise(vo);
   expectUnitsRow("I14", units);
 }
 
@@ -909,39 +925,119 @@ CATALOGUE_TEST(I16) {
   expectUnitsRow("I16", units);
 }
 
+// ---- Vertex order ----
+
+// A VERTEX_ORDER unit for frame 0 (triangle list coded) with `bins` as its CABAC payload, each
+// bin coded with a fresh context (the decoder's contexts all start equiprobable too, and each
+// context of the payloads built here is used once, or only with equal bins).
+std::vector<uint8_t> vertexOrderPayload(const std::vector<unsigned>& bins, bool sameContext) {
+  CabacEncoder encoder;
+  ContextModel shared;
+  for (unsigned bin : bins) {
+    ContextModel fresh;
+    encoder.encodeBin(sameContext ? shared : fresh, bin);
+  }
+  VertexOrderUnit vo = parse<VertexOrderUnit>(baseUnits()[3]);
+  vo.vo_cabac_payload = encoder.finish();
+  return serialise(vo);
+}
+
+CATALOGUE_TEST(V01) {
+  std::vector<Unit> units = baseUnits();
+  units.erase(units.begin() + 3);  // the P mesh of frame 1 where the vertex order belongs
+  expectUnitsRow("V01", units);
+}
+
+CATALOGUE_TEST(V02) {
+  std::vector<Unit> units = baseUnits();
+  putU32(units[3].payload, 0, 4);
+  expectUnitsRow("V02", units);
+}
+
+CATALOGUE_TEST(V03) {
+  std::vector<Unit> units = baseUnits();
+  units[3].payload[8] = 2;
+  expectUnitsRow("V03", units);
+}
+
+CATALOGUE_TEST(V04) {
+  // Vertices 0 and 1 both get output index 0 (two zero deltas, both predicted from vertex 0).
+  std::vector<Unit> units = baseUnits();
+  units[3].payload = vertexOrderPayload({0, 0}, true);
+  expectUnitsRow("V04", units);
+}
+
+CATALOGUE_TEST(V05) {
+  // Vertex 0 gets -1: nonzero, negative, magnitude 1.
+  std::vector<Unit> units = baseUnits();
+  units[3].payload = vertexOrderPayload({1, 1, 0}, false);
+  expectUnitsRow("V05", units);
+}
+
+CATALOGUE_TEST(V06) {
+  std::vector<Unit> units = baseUnits();
+  units[3].payload.push_back(0);
+  units[3].payload.push_back(0);
+  expectUnitsRow("V06", units);
+}
+
+CATALOGUE_TEST(V08) {
+  std::vector<Unit> units = baseUnits();
+  putU32(units[3].payload, 4, 43);  // one more than the I mesh's 42 vertices
+  expectUnitsRow("V08", units);
+}
+
+CATALOGUE_TEST(V07) {
+  std::vector<Unit> units = baseUnits();
+  units[3].payload.resize(9);  // vo_frame, vo_num_vertices and vo_triangle_order only
+  expectUnitsRow("V07", units);
+}
+
+CATALOGUE_TEST(G15) {
+  std::vector<Unit> units = baseUnits();
+  units[1].payload[kGhRandomAccess] = 0;
+  expectUnitsRow("G15", units);
+}
+
+CATALOGUE_TEST(G16) {
+  std::vector<Unit> units = baseUnits();
+  units[1].payload[kGhRandomAccess] = 2;
+  expectUnitsRow("G16", units);
+}
+
 // ---- P mesh ----
 
 CATALOGUE_TEST(P01) {
   std::vector<Unit> units = baseUnits();
-  putU32(units[3].payload, 0, 2);
+  putU32(units[4].payload, 0, 2);
   expectUnitsRow("P01", units);
 }
 
 CATALOGUE_TEST(P02) {
   std::vector<Unit> units = baseUnits();
-  units[3] = units[2];  // an I mesh where the P mesh of frame 1 belongs
+  units[4] = units[2];  // an I mesh where the P mesh of frame 1 belongs
   expectUnitsRow("P02", units);
   units = baseUnits();
-  units.erase(units.begin() + 4);  // GOM 1's header where frame 2's P mesh belongs
+  units.erase(units.begin() + 5);  // GOM 1's header where frame 2's P mesh belongs
   expectUnitsRow("P02", units);
 }
 
 CATALOGUE_TEST(P03) {
   std::vector<Unit> units = baseUnits();
-  units[3].payload.resize(2);
+  units[4].payload.resize(2);
   expectUnitsRow("P03", units);
 }
 
 CATALOGUE_TEST(P04) {
   std::vector<Unit> units = baseUnits();
-  units[3].payload.resize(4);  // pm_frame only
+  units[4].payload.resize(4);  // pm_frame only
   expectUnitsRow("P04", units);
 }
 
 CATALOGUE_TEST(P05) {
   std::vector<Unit> units = baseUnits();
-  units[3].payload.push_back(0);
-  units[3].payload.push_back(0);
+  units[4].payload.push_back(0);
+  units[4].payload.push_back(0);
   expectUnitsRow("P05", units);
 }
 
@@ -951,7 +1047,7 @@ CATALOGUE_TEST(P06) {
   putU32(payload, 0, 1);
   const std::vector<uint8_t> cabac = afxicResidualPayload((1 << 21) + 1);
   payload.insert(payload.end(), cabac.begin(), cabac.end());
-  units[3].payload = payload;
+  units[4].payload = payload;
   expectUnitsRow("P06", units);
 }
 
@@ -963,13 +1059,13 @@ CATALOGUE_TEST(P07) {
   putU32(payload, 0, 1);
   const std::vector<uint8_t> cabac = afxicResidualPayload(1000);
   payload.insert(payload.end(), cabac.begin(), cabac.end());
-  units[3].payload = payload;
+  units[4].payload = payload;
   expectUnitsRow("P07", units);
 }
 
 CATALOGUE_TEST(P08) {
   std::vector<Unit> units = baseUnits();
-  std::vector<uint8_t>& p = units[3].payload;
+  std::vector<uint8_t>& p = units[4].payload;
   p.resize(4 + (p.size() - 4) / 2);
   expectUnitsRow("P08", units);
 }
@@ -1547,23 +1643,29 @@ int decodeWithLimit(const std::vector<uint8_t>& stream, uint64_t limit, std::str
 // The limit compares the output declared by all GOMs so far with the bytes read so far, through
 // the I mesh that declares it: exactly, at the GOM it is exceeded in; 0 lifts it.
 TEST(DecodingWork, OutputPerStreamByteIsLimitedOverAllGoms) {
-  const int n = 20, gomFrames = 100;
-  const std::vector<Unit> units = staticSheetUnits(n, gomFrames, 2);
+  // Two GOMs, the second (frames 100-399) three times as long as the first, so that the total
+  // declared output per byte grows at the second GOM's I mesh.
+  const int n = 20, gomFrames = 100, lastFrames = 300;
+  std::vector<Unit> units = staticSheetUnits(n, gomFrames, 2);
+  putU32(units[0].payload, kShFrameCount, gomFrames + lastFrames);
+  putU16(units[5].payload, kGhFrameCount, lastFrames);
+  putU16(units[5].payload, kGhDelta, lastFrames - 1);
+  putU32(units[8].payload, 0, gomFrames + lastFrames - 1);  // pm_frame
   const std::vector<uint8_t> stream = join(units);
-  const uint64_t gomOutput = uint64_t{gomFrames} * n * n;
-  const uint64_t bytes0 = bytesThrough(units, 2), bytes1 = bytesThrough(units, 5);
-  const uint64_t need0 = (gomOutput + bytes0 - 1) / bytes0;      // for GOM 0
-  const uint64_t need1 = (2 * gomOutput + bytes1 - 1) / bytes1;  // for both
+  const uint64_t gomOutput = uint64_t{gomFrames} * n * n, total = gomOutput * 4;
+  const uint64_t bytes0 = bytesThrough(units, 2), bytes1 = bytesThrough(units, 6);
+  const uint64_t need0 = (gomOutput + bytes0 - 1) / bytes0;  // for GOM 0
+  const uint64_t need1 = (total + bytes1 - 1) / bytes1;      // for both
   ASSERT_GT(need1, need0) << "the GOMs cannot tell a total limit from a per-GOM one";
   const std::vector<size_t> offsets = unitOffsets(stream);
   std::string error;
-  EXPECT_EQ(decodeWithLimit(stream, need1, error), 2 * gomFrames) << error;
-  EXPECT_EQ(decodeWithLimit(stream, 0, error), 2 * gomFrames) << error;
+  EXPECT_EQ(decodeWithLimit(stream, need1, error), gomFrames + lastFrames) << error;
+  EXPECT_EQ(decodeWithLimit(stream, 0, error), gomFrames + lastFrames) << error;
 
   EXPECT_EQ(decodeWithLimit(stream, need1 - 1, error), gomFrames);
-  EXPECT_EQ(error, "x.3dvo: unit 4 (GOM_HEADER) at byte " + std::to_string(offsets[4]) + ": " +
-                       std::to_string(gomFrames) + " frames x " + std::to_string(n * n) +
-                       " vertices take the decoded output to " + std::to_string(2 * gomOutput) +
+  EXPECT_EQ(error, "x.3dvo: unit 5 (GOM_HEADER) at byte " + std::to_string(offsets[5]) + ": " +
+                       std::to_string(lastFrames) + " frames x " + std::to_string(n * n) +
+                       " vertices take the decoded output to " + std::to_string(total) +
                        " vertex-frames from " + std::to_string(bytes1) +
                        " stream bytes, more than the limit of " + std::to_string(need1 - 1) +
                        " vertex-frames per stream byte (MaxVertexFramesPerByte)");

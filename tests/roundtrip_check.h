@@ -1,8 +1,8 @@
 // The checks of an encode → decode round trip at library level, shared by roundtrip_test and
 // horse_test: the encoder's reconstruction equals the decoder's output (MD5 lines and meshes),
 // the decoder's grid is the encoder's, every input vertex is decoded once and lies within half
-// a grid step of its decoded vertex, and the decoded connectivity is the input's up to Draco's
-// vertex permutation. Uses GoogleTest assertions.
+// a grid step of its decoded vertex, and the decoded frames are in the input's vertex order with
+// the input's triangle list. Uses GoogleTest assertions.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -116,9 +116,20 @@ inline void checkRoundTrip(const std::vector<Mesh>& frames, const RoundTrip& r) 
 
     EXPECT_EQ(decodedAsInput(dec, index), canonicalSorted(frames[f].triangles))
         << "frame " << f << ": decoded connectivity differs from the input's";
+
+    // Output in the input's order: the vertices (the identity when Draco kept every vertex as
+    // it is, else still ascending) and the triangles, exactly.
+    EXPECT_TRUE(std::is_sorted(index.begin(), index.end())) << "frame " << f;
+    if (index.size() == frames[f].positions.size()) {
+      for (uint32_t j = 0; j < index.size(); ++j)
+        ASSERT_EQ(index[j], j) << "frame " << f;
+      EXPECT_EQ(dec.triangles, frames[f].triangles)
+          << "frame " << f << ": triangles not in the input's order and rotation";
+    }
   }
   EXPECT_EQ(r.coded.vertexFrames, vertexFrames);
-  EXPECT_EQ(r.coded.headerBytes + r.coded.iMeshBytes + r.coded.pMeshBytes, r.coded.stream.size());
+  EXPECT_EQ(r.coded.headerBytes + r.coded.iMeshBytes + r.coded.orderBytes + r.coded.pMeshBytes,
+            r.coded.stream.size());
 }
 
 }  // namespace test

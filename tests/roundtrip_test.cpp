@@ -340,7 +340,7 @@ TEST(StreamDecoder, UnitAfterTheLastFrame) {
   writer.write(UnitType::kGomHeader, w.data());
   stream.insert(stream.end(), writer.bytes().begin() + 4, writer.bytes().end());
   EXPECT_EQ(decodeError(stream, stream.size()),
-            "c.3dvo: unit " + std::to_string(6) + " (GOM_HEADER) at byte " +
+            "c.3dvo: unit " + std::to_string(9) + " (GOM_HEADER) at byte " +
                 std::to_string(s.bytes.size()) + ": unit after the last frame (sh_frame_count 3)");
 }
 

@@ -56,7 +56,7 @@ struct Params {
               {{"identity", Correspondence::kIdentity}, {"nearest", Correspondence::kNearest}},
               "vertex order for RMSE, D_A and KG: identity = vertex i is vertex i; nearest = "
               "match each test vertex to its nearest reference vertex at the first frame of "
-              "each group (for decoded 3DVO frames, which are in Draco's vertex order)");
+              "each group (for coders that reorder vertices; 3DVO output keeps the input's order)");
     t.add("GroupSize", groupSize, 1, 10000000,
           "frames per group for Correspondence nearest: one matching per group, made at its "
           "first frame (set to the encoder's GOMSize; 1 = match every frame)");

@@ -231,9 +231,9 @@ def _geometry_stages(spec, workdir, timeout, config):
                       "--verify", "encode.out"]
     decode_s = _run_stage("decode", decode_command, workdir, timeout)
 
-    # Decoded frames come in Draco's vertex order: match them to the reference once per GOM
-    # (docs/metrics.md, "Vertex correspondence"), at the GOM starts the decoder lists (GOMs may
-    # differ in length, e.g. with GOMListFile).
+    # Decoded frames come in the input's vertex order (syntax version 2, docs/bitstream.md
+    # section 4.1): vertex i is reference vertex i, no matching (docs/metrics.md, "Vertex
+    # correspondence").
     metrics_command = [
         binaries["3dvo-metrics"], "-r", reference["pattern"],
         "--ReferenceFirstFrame=%d" % reference["first_frame"],
@@ -241,8 +241,7 @@ def _geometry_stages(spec, workdir, timeout, config):
         "-t", os.path.join("decoded", "%04d.obj"),
         "--TestFirstFrame=%d" % reference["first_frame"],
         "--FrameCount=%d" % reference["frame_count"],
-        "--Correspondence=nearest",
-        "--GroupStarts=" + os.path.join("decoded", "gom_starts.txt"),
+        "--Correspondence=identity",
         "--CsvFile=metrics.csv"]
     metrics_s = _run_stage("metrics", metrics_command, workdir, timeout)
     with open(os.path.join(workdir, "metrics.csv"), encoding="utf-8", newline="") as f:
