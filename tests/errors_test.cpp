@@ -1113,6 +1113,8 @@ CATALOGUE_TEST(D05) {
 CATALOGUE_TEST(D06) {
   test::writeBytes(dir_.file("x.3dvo"), baseStream());
   expectRow("D06", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--verify", "/dev/zero"});
+}
+
 CATALOGUE_TEST(D08) {
   test::writeBytes(dir_.file("x.3dvo"), baseStream());
   expectRow("D08", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--FirstFrame=6"});
@@ -1121,6 +1123,8 @@ CATALOGUE_TEST(D08) {
 CATALOGUE_TEST(D07) {
   test::writeBytes(dir_.file("x.3dvo"), baseStream());
   expectRow("D07", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--FirstFrame=4", "--FrameCount=3"});
+}
+
 CATALOGUE_TEST(D09) {
   test::writeBytes(dir_.file("x.3dvo"), baseStream());
   std::filesystem::create_directories(dir_.path() / "out");
@@ -1427,6 +1431,8 @@ CATALOGUE_TEST(C30) {
   args.push_back("/dev/zero");
   expectRow("C30", "3dvo-enc", args);
   expectCfgRow("C30", "GOMListFile : /dev/zero\n");
+}
+
 CATALOGUE_TEST(C35) {
   // FrameCount not set and not even the first frame's file: nothing to code.
   expectRow("C35", "3dvo-enc",
