@@ -8,6 +8,7 @@ extern "C" {
 }
 
 #include "common/error.h"
+#include "common/ffmpeg_log.h"
 
 namespace tdvo {
 
@@ -63,9 +64,10 @@ struct VideoReader::State {
 };
 
 VideoReader::VideoReader(const std::string& path) : state_(std::make_unique<State>()) {
-  // FFmpeg's warnings about harmless stream quirks would clutter every app's stderr; errors are
-  // reported through exceptions anyway.
-  if (av_log_get_level() == AV_LOG_INFO) av_log_set_level(AV_LOG_ERROR);
+  // FFmpeg's warnings about harmless stream quirks would clutter every app's stderr, and its
+  // error lines would come before the app's own: they are routed away (common/ffmpeg_log.h);
+  // errors are reported through exceptions.
+  routeFfmpegLog();
   State& s = *state_;
   s.path = path;
   int ret = avformat_open_input(&s.format, path.c_str(), nullptr, nullptr);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -19,8 +20,10 @@
 #include "common/image.h"
 #include "common/md5.h"
 #include "common/obj_io.h"
+#include "common/progress.h"
 #include "common/sequence.h"
 #include "common/yuv.h"
+#include "decoder/decoder_version.h"
 #include "decoder/stream_decoder.h"
 
 using namespace tdvo;
@@ -143,6 +146,7 @@ int main(int argc, char** argv) {
     table.add("Threads", threads, 0, 256,
               "cameras whose textures are decoded in parallel (0 = hardware concurrency); the "
               "output, the MD5 lines and any error are the same for any value");
+    table.addVersionLines(decoderVersionLines());
     if (!table.parseCommandLine(argc, argv)) return 0;
     check(!streamPath.empty(), "no stream given (-i STREAM.3dvo; see --help)");
     checkFramePattern(meshPattern, "OutputMeshPattern");
@@ -187,6 +191,9 @@ int main(int argc, char** argv) {
                                          expected[lines] + "', decoded '" + line + "'");
       ++lines;
     };
+    // Frames decoded, on stderr when it is a terminal (the count is known once the sequence
+    // header is read).
+    std::optional<Progress> progress;
     std::mutex pngMutex;
     std::map<std::pair<int, int>, std::vector<uint8_t>> pngs;  // (frame, camera): to be written
     decoder.decode(
@@ -197,6 +204,8 @@ int main(int argc, char** argv) {
                           formatObj(decoder.grid().dequantise(mesh)));
           vertexFrames += mesh.positions.size();
           frames = frame + 1;
+          if (!progress) progress.emplace("3dvo-dec: frame", decoder.sequenceHeader().sh_frame_count);
+          progress->tick(static_cast<size_t>(frames));
         },
         [&](int frame, int camera, const YuvPicture& picture, const Image&) {
           report(textureHashLine(frame, camera, picture));
@@ -235,6 +244,7 @@ int main(int argc, char** argv) {
     if (!outputDir.empty())
       outputs.write(outputDir + "/" + kGomStartsFileName, formatGomStarts(decoder.gomStarts()));
     if (!extractDir.empty()) extractTextures(streamPath, streamPath, extractDir, outputs);
+    progress.reset();  // clears its line before the summary
     outputs.commit();
     createdFolder.keep = true;
 

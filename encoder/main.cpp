@@ -1,6 +1,7 @@
 // 3dvo-enc: encodes an OBJ mesh sequence into a .3dvo stream.
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -14,8 +15,13 @@
 #include "common/progress.h"
 #include "common/sequence.h"
 #include "common/yuv.h"
+#include "decoder/decoder_version.h"
 #include "encoder/sequence_encoder.h"
 #include "encoder/texture_encoder.h"
+
+extern "C" {
+#include <x264.h>
+}
 
 using namespace tdvo;
 
@@ -24,6 +30,9 @@ int main(int argc, char** argv) {
     EncoderParams params;
     OptionTable table("3dvo-enc", "3dvo-enc -c cfg/FILE.cfg [-c ...] [--Key=value ...]");
     params.registerOptions(table);
+    table.addVersionLines(decoderVersionLines());
+    table.addVersionLines(
+        {std::string("x264 ") + X264_POINTVER + " (build " + std::to_string(X264_BUILD) + ")"});
     if (!table.parseCommandLine(argc, argv)) return 0;
     params.validate();
     const auto start = std::chrono::steady_clock::now();

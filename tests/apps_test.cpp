@@ -230,6 +230,34 @@ TEST_F(AppsTest, HelpListsTheKeys) {
   EXPECT_EQ(test::listFolder(dir_.path()), std::vector<std::string>{"in"});
 }
 
+// Every app answers --version with the 3DVO release and the libraries it links (exit 0, no
+// other output, no file).
+TEST_F(AppsTest, VersionOnEveryApp) {
+  const std::vector<std::string> core = {
+      "(3DVO ",           "zlib ", "libpng ", "FFmpeg libavcodec ", "FFmpeg libavformat ",
+      "FFmpeg libavutil "};
+  const std::vector<std::pair<std::string, std::vector<std::string>>> apps = {
+      {"3dvo-enc", {"stream syntax version ", "Draco ", "x264 "}},
+      {"3dvo-dec", {"stream syntax version ", "Draco "}},
+      {"3dvo-metrics", {"stream syntax version "}},
+      {"3dvo-recon", {"OpenMesh ", "OpenCV "}},
+      {"3dvo-render", {}},
+      {"3dvo-import", {}},
+      {"3dvo-synth", {}},
+      {"3dvo-sample", {}}};
+  for (const auto& [app, own] : apps) {
+    const CommandResult r = test::run(dir_, std::string(TDVO_BIN_DIR) + "/" + app, {"--version"});
+    EXPECT_EQ(r.exitCode, 0) << app << ": " << r.err;
+    EXPECT_EQ(r.err, "") << app;
+    EXPECT_EQ(r.out.rfind(app + " (3DVO ", 0), 0u) << r.out;
+    for (const std::vector<std::string>* list : {&core, &own})
+      for (const std::string& line : *list)
+        EXPECT_NE(r.out.find(line), std::string::npos) << app << " lacks '" << line << "':\n"
+                                                       << r.out;
+  }
+  EXPECT_EQ(test::listFolder(dir_.path()), std::vector<std::string>{"in"});
+}
+
 // ---- Encoder: bad input ----
 
 TEST_F(AppsTest, NoArguments) {

@@ -411,6 +411,13 @@ class ErrorsTest : public testing::Test {
     expectRow(id, "3dvo-enc", args);
   }
 
+  // Texture rows decode without -o: what a failed textured decode leaves in its output folder
+  // is the output-safety rows' business; these rows are about the error.
+  void expectTextureRow(const std::string& id, const std::vector<Unit>& units) {
+    test::writeBytes(dir_.file("x.3dvo"), join(units));
+    expectRow(id, "3dvo-dec", {"-i", "x.3dvo"});
+  }
+
   TempDir dir_{"errors"};
 };
 
@@ -877,6 +884,60 @@ CATALOGUE_TEST(P08) {
   expectUnitsRow("P08", units);
 }
 
+// ---- Texture units ----
+
+// A textured stream: the committed conformance stream with 3 cameras.
+std::vector<Unit> textureUnits() {
+  return split(test::readBytes(std::string(TDVO_SOURCE_DIR) +
+                               "/conformance/streams/texture_bbox_mb128_g3.3dvo"));
+}
+
+// Payload offsets of the NAL units of a texture unit (after each start code; tx_frame and
+// tx_camera take the first 6 bytes).
+std::vector<size_t> nalStarts(const std::vector<uint8_t>& p) {
+  std::vector<size_t> starts;
+  for (size_t b = 6; b + 3 <= p.size(); ++b)
+    if (p[b] == 0 && p[b + 1] == 0 && p[b + 2] == 1) starts.push_back(b + 3);
+  return starts;
+}
+
+std::vector<size_t> textureUnitIndices(const std::vector<Unit>& units) {
+  std::vector<size_t> textures;
+  for (size_t i = 0; i < units.size(); ++i)
+    if (units[i].type == static_cast<uint8_t>(UnitType::kTexture)) textures.push_back(i);
+  return textures;
+}
+
+CATALOGUE_TEST(T01) {
+  std::vector<Unit> units = textureUnits();
+  int spsSeen = 0;
+  for (size_t i : textureUnitIndices(units))
+    for (size_t nal : nalStarts(units[i].payload))
+      if (units[i].payload[4] == 0 && units[i].payload[5] == 0 &&  // tx_camera 0
+          (units[i].payload[nal] & 0x1f) == 7 && ++spsSeen == 2) {
+        units[i].payload.at(nal + 4) ^= 0x5a;  // inside log2_max_frame_num_minus4 and after
+        expectTextureRow("T01", units);
+        return;
+      }
+  FAIL() << "camera 0 has no second SPS in the stream";
+}
+
+CATALOGUE_TEST(T02) {
+  const std::vector<Unit> units = textureUnits();
+  const std::vector<size_t> textures = textureUnitIndices(units);
+  ASSERT_GE(textures.size(), 3u);
+  for (size_t which : {textures.front(), textures[textures.size() / 2], textures.back()}) {
+    SCOPED_TRACE("texture unit " + std::to_string(which));
+    std::vector<Unit> damaged = units;
+    std::vector<uint8_t>& p = damaged[which].payload;
+    // The slice data is the last NAL unit.
+    const size_t lastNal = nalStarts(p).back();
+    ASSERT_LT(lastNal + 8, p.size());
+    p[lastNal + (p.size() - lastNal) / 2] ^= 0x5a;
+    expectTextureRow("T02", damaged);
+  }
+}
+
 // ---- 3dvo-dec options ----
 
 CATALOGUE_TEST(D01) {
@@ -1010,7 +1071,7 @@ CATALOGUE_TEST(C01) {
 }
 
 CATALOGUE_TEST(C02) {
-  expectCfgRow("C02", "GridBits : 10\n\nGridBitz : 10\n");
+  expectCfgRow("C02", "GridBits : 10\n\nFrobnicate : 10\n");
 }
 
 CATALOGUE_TEST(C03) {
@@ -1097,6 +1158,10 @@ CATALOGUE_TEST(C19) {
 
 CATALOGUE_TEST(C20) {
   expectCfgRow("C20", "", {"-o", "no-such-folder/x.3dvo"});
+}
+
+CATALOGUE_TEST(C30) {
+  expectCfgRow("C30", "GridBits : 10\n\nGridBitz : 10\n");
 }
 
 // GOMListFile rows: the list is goms.txt beside x.cfg (one coded frame unless the cfg says so).
@@ -1256,6 +1321,14 @@ DATASET_TEST(J14) {
                    "\"fx\": 10, \"fy\": 10, \"cx\": 3.5, \"cy\": 2.5, \"R\": "
                    "[[1, 0, 0], [0, 1, 0], [0, 0, 1]], \"t\": [0, 0, 5], "
                    "\"images\": \"cam/%04d.png\"}]}");
+}
+
+DATASET_TEST(J21) {
+  // The apps that write files named by cameras read datasets through the same check (the other
+  // refused names: DatasetJson.CameraNamesMustBeFileNames).
+  expectDatasetRow("J21", "\"name\": \"cam\"", "\"name\": \"../..\"");
+  expectRow("J21", "3dvo-recon", {"-i", "x", "-o", "out", "--WriteSilhouettes=true"});
+  expectRow("J21", "3dvo-render", {"-i", "x", "-o", "out"});
 }
 
 DATASET_TEST(J15) {
