@@ -57,8 +57,12 @@ class ObjParser {
         corners.clear();
         for (size_t i = 1; i < tokens.size(); ++i)
           corners.push_back(index(tokens[i]));
-        for (size_t i = 1; i + 1 < corners.size(); ++i)
+        if (firstFaceLine_ == 0) firstFaceLine_ = lineNumber_;
+        for (size_t i = 1; i + 1 < corners.size(); ++i) {
           mesh_.triangles.push_back({corners[0], corners[i], corners[i + 1]});
+          properTriangles_ += corners[0] != corners[i] && corners[i] != corners[i + 1] &&
+                              corners[0] != corners[i + 1];
+        }
       } else if (keyword == "vt" || keyword == "vn" || keyword == "vp" || keyword == "o" ||
                  keyword == "g" || keyword == "s" || keyword == "mtllib" || keyword == "usemtl") {
         // Not geometry 3DVO codes.
@@ -75,6 +79,12 @@ class ObjParser {
     }
     if (mesh_.positions.empty()) throw Error(name_ + ": no vertices");
     if (mesh_.triangles.empty()) throw Error(name_ + ": no faces");
+    // Triangles with a repeated vertex are kept here (the encoder drops them, with a warning),
+    // but a mesh made of nothing else has no surface at all.
+    if (properTriangles_ == 0) {
+      lineNumber_ = firstFaceLine_;
+      fail("every face has a repeated vertex (degenerate): no triangle is left to code");
+    }
     return std::move(mesh_);
   }
 
@@ -115,6 +125,8 @@ class ObjParser {
   size_t lineNumber_ = 0;
   uint32_t maxIndex_ = 0;    // largest 0-based vertex index in any face so far
   size_t maxIndexLine_ = 0;  // the line where it first appeared
+  size_t firstFaceLine_ = 0;
+  size_t properTriangles_ = 0;  // triangles with three different vertices
   Mesh mesh_;
 };
 

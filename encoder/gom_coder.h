@@ -37,8 +37,9 @@ struct GomGeometry {
 
 // Codes frames first .. first + frames.size() - 1 of a sequence as one GOM (`frames` are the
 // GOM's input meshes, taken over and released as soon as they are on the grid). `frameName(k)`
-// names sequence frame k in error messages. Throws Error on input the codec cannot represent
-// (connectivity changing inside a GOM of P meshes, degenerate triangles).
+// names sequence frame k in error messages. Triangles with a repeated vertex are dropped (a
+// warning counts them). Throws Error on input the codec cannot represent (connectivity changing
+// inside a GOM of P meshes).
 GomGeometry encodeGomGeometry(const EncoderParams& params, const Grid& grid, size_t first,
                               std::vector<Mesh> frames,
                               const std::function<std::string(size_t)>& frameName);

@@ -258,6 +258,31 @@ TEST_F(AppsTest, VersionOnEveryApp) {
   EXPECT_EQ(test::listFolder(dir_.path()), std::vector<std::string>{"in"});
 }
 
+// Real captures with degenerate triangles (thomas, frames 1..4 of tvmc-varying: 10 to 14 each)
+// encode in intra mode, one warning per frame counting them, and decode to the encoder's MD5
+// lines (--verify).
+TEST_F(AppsTest, RealMeshesWithDegenerateTrianglesEncode) {
+  const std::string folder = std::string(TDVO_SHARED_DATA_DIR) + "/meshseq/tvmc-varying";
+  if (!std::filesystem::exists(folder + "/thomas_fr0001.obj.gz"))
+    GTEST_SKIP() << "../shared/data/meshseq/tvmc-varying is absent";
+  const CommandResult enc =
+      test::run(dir_, kEncoder,
+                {"--InputMeshPattern=" + folder + "/thomas_fr%04d.obj.gz", "--FirstFrame=1",
+                 "--FrameCount=4", "--PMeshMode=intra", "--GOMSize=1", "--BitstreamFile=t.3dvo"});
+  ASSERT_EQ(enc.exitCode, 0) << enc.err;
+  std::vector<std::string> warnings;
+  for (const std::string& line : test::lines(enc.err))
+    if (line.find("triangles have a repeated vertex (degenerate); dropped") != std::string::npos)
+      warnings.push_back(line);
+  EXPECT_EQ(warnings.size(), 4u) << enc.err;
+  std::string log;
+  for (const std::string& line : test::linesStartingWith(enc.out, "MD5 "))
+    log += line + "\n";
+  test::writeText(dir_.file("t.md5"), log);
+  const CommandResult dec = test::run(dir_, kDecoder, {"-i", "t.3dvo", "--verify", "t.md5"});
+  EXPECT_EQ(dec.exitCode, 0) << dec.err;
+}
+
 // ---- Encoder: bad input ----
 
 TEST_F(AppsTest, NoArguments) {

@@ -1060,6 +1060,10 @@ CATALOGUE_TEST(O15) {
   expectRow("O15", "3dvo-enc", args);
 }
 
+CATALOGUE_TEST(O16) {
+  expectObjRow("O16", "v 0 0 0\nv 5e-324 0 0\nv 0 5e-324 0\nf 1 2 3\n");
+}
+
 // ---- cfg and options (3dvo-enc) ----
 
 CATALOGUE_TEST(C01) {
@@ -1162,6 +1166,10 @@ CATALOGUE_TEST(C20) {
 
 CATALOGUE_TEST(C30) {
   expectCfgRow("C30", "GridBits : 10\n\nGridBitz : 10\n");
+}
+
+CATALOGUE_TEST(C31) {
+  expectCfgRow("C31", "PMeshMode : d3dmc\nKeyframeCount : 1\n");
 }
 
 // GOMListFile rows: the list is goms.txt beside x.cfg (one coded frame unless the cfg says so).
