@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bitstream/camera_parameters.h"
+#include "bitstream/header_hash.h"
 #include "bitstream/units.h"
 #include "common/app.h"
 #include "common/config.h"
@@ -232,6 +233,8 @@ int main(int argc, char** argv) {
           std::lock_guard<std::mutex> lock(pngMutex);
           pngs[{frame, camera}] = std::move(png);
         });
+    // What the frame lines do not cover: the grid, the cameras, every header field.
+    report(sequenceHeaderHashLine(decoder.sequenceHeader()));
     if (!verifyPath.empty())
       check(expected.size() == lines, verifyPath + ": has " + std::to_string(expected.size()) +
                                           " MD5 lines, the stream gives " + std::to_string(lines));

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 
+#include "bitstream/header_hash.h"
 #include "common/app.h"
 #include "common/dataset.h"
 #include "common/file_io.h"
@@ -88,6 +89,7 @@ int main(int argc, char** argv) {
             std::printf("%s\n", textureHashLine(frame, camera, picture).c_str());
           });
     }
+    std::printf("%s\n", sequenceHeaderHashLine(coded.stream, params.bitstreamFile).c_str());
     outputs.write(params.bitstreamFile, coded.stream.data(), coded.stream.size());
     outputs.commit();
 
