@@ -255,6 +255,12 @@ TEST_F(AppsTest, VersionOnEveryApp) {
         EXPECT_NE(r.out.find(line), std::string::npos) << app << " lacks '" << line << "':\n"
                                                        << r.out;
   }
+  // 3dvo-rd (Python) names the release, Python and its packages, importing none of them.
+  const CommandResult rd = test::run(dir_, std::string(TDVO_BIN_DIR) + "/3dvo-rd", {"--version"});
+  EXPECT_EQ(rd.exitCode, 0) << rd.err;
+  EXPECT_EQ(rd.out.rfind("3dvo-rd (3DVO ", 0), 0u) << rd.out;
+  for (const char* line : {"Python ", "distributed", "numpy"})
+    EXPECT_NE(rd.out.find(line), std::string::npos) << line << " missing in:\n" << rd.out;
   EXPECT_EQ(test::listFolder(dir_.path()), std::vector<std::string>{"in"});
 }
 
