@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "bitstream/header_hash.h"
 #include "common/grid.h"
 #include "common/md5.h"
 #include "common/obj_io.h"
@@ -115,9 +116,10 @@ TEST_F(AppsTest, EncodeDecodeMd5LinesMatch) {
   ASSERT_EQ(enc.exitCode, 0) << enc.err;
   EXPECT_EQ(enc.err, "");
   const std::vector<std::string> encLines = test::linesStartingWith(enc.out, "MD5 ");
-  ASSERT_EQ(encLines.size(), static_cast<size_t>(kFrames));
+  ASSERT_EQ(encLines.size(), static_cast<size_t>(kFrames) + 1u);
   for (int f = 0; f < kFrames; ++f)
     EXPECT_EQ(encLines[f].rfind("MD5 frame=" + std::to_string(f) + " geometry=", 0), 0u);
+  EXPECT_EQ(encLines.back().rfind("MD5 header=", 0), 0u);  // after the frames
   EXPECT_NE(enc.out.find("frames              : 6"), std::string::npos) << enc.out;
 
   const CommandResult dec = decode({"-i", "seq.3dvo", "-o", "out"});
@@ -145,9 +147,11 @@ TEST_F(AppsTest, EncodeDecodeMd5LinesMatch) {
   params.pmeshMode = PMeshMode::kIntra;
   const Grid grid = gridForSequence(input, 11);
   std::vector<std::string> libraryLines;
-  encodeSequence(params, grid, input, {}, [&](int frame, const IntMesh& mesh) {
-    libraryLines.push_back(geometryHashLine(frame, mesh));
-  });
+  const EncodedSequence library =
+      encodeSequence(params, grid, input, {}, [&](int frame, const IntMesh& mesh) {
+        libraryLines.push_back(geometryHashLine(frame, mesh));
+      });
+  libraryLines.push_back(sequenceHeaderHashLine(library.stream, "library"));
   EXPECT_EQ(libraryLines, encLines);
   for (int f = 0; f < kFrames; ++f) {
     const std::string decoded = test::readText(dir_.file("out/" + expectedNames[f]));
@@ -177,7 +181,7 @@ TEST_F(AppsTest, PMeshesAndGzipInput) {
   const CommandResult dec = decode({"-i", "seq.3dvo"});
   ASSERT_EQ(dec.exitCode, 0) << dec.err;
   const std::vector<std::string> lines = test::linesStartingWith(enc.out, "MD5 ");
-  EXPECT_EQ(lines.size(), static_cast<size_t>(kFrames));
+  EXPECT_EQ(lines.size(), static_cast<size_t>(kFrames) + 1u);  // and the header line
   EXPECT_EQ(test::linesStartingWith(dec.out, "MD5 "), lines);
 }
 
@@ -211,7 +215,7 @@ TEST_F(AppsTest, VerifyPassesAndFailsOnAnEditedLog) {
   test::writeText(dir_.file("long.log"),
                   enc.out + "MD5 frame=6 geometry=00000000000000000000000000000000\n");
   expectFailure(kDecoder, {"-i", "seq.3dvo", "-o", "out", "--verify", "long.log"},
-                {"long.log: has 7 MD5 lines, the stream gives 6"});
+                {"long.log: has 8 MD5 lines, the stream gives 7"});
 }
 
 TEST_F(AppsTest, HelpListsTheKeys) {
