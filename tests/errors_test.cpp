@@ -972,7 +972,7 @@ CATALOGUE_TEST(D04) {
   expectRow("D04", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--verify", "x.md5"});
 }
 
-CATALOGUE_TEST(D06) {
+CATALOGUE_TEST(D12) {
   // The log of the base stream; then the same stream with its grid moved: every grid integer,
   // so every frame line, is the same, but every OBJ coordinate differs.
   test::writeBytes(dir_.file("x.3dvo"), baseStream());
@@ -985,7 +985,7 @@ CATALOGUE_TEST(D06) {
   std::vector<Unit> units = baseUnits();
   putF64(units[0].payload, kShOrigin, 1000.0);
   test::writeBytes(dir_.file("x.3dvo"), join(units));
-  expectRow("D06", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--verify", "x.md5"});
+  expectRow("D12", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--verify", "x.md5"});
 }
 
 CATALOGUE_TEST(D05) {
@@ -1076,8 +1076,8 @@ CATALOGUE_TEST(O15) {
   expectRow("O15", "3dvo-enc", args);
 }
 
-CATALOGUE_TEST(O16) {
-  expectObjRow("O16", "v 0 0 0\nv 5e-324 0 0\nv 0 5e-324 0\nf 1 2 3\n");
+CATALOGUE_TEST(O17) {
+  expectObjRow("O17", "v 0 0 0\nv 5e-324 0 0\nv 0 5e-324 0\nf 1 2 3\n");
 }
 
 // ---- cfg and options (3dvo-enc) ----
@@ -1180,12 +1180,12 @@ CATALOGUE_TEST(C20) {
   expectCfgRow("C20", "", {"-o", "no-such-folder/x.3dvo"});
 }
 
-CATALOGUE_TEST(C30) {
-  expectCfgRow("C30", "GridBits : 10\n\nGridBitz : 10\n");
+CATALOGUE_TEST(C42) {
+  expectCfgRow("C42", "GridBits : 10\n\nGridBitz : 10\n");
 }
 
-CATALOGUE_TEST(C31) {
-  expectCfgRow("C31", "PMeshMode : d3dmc\nKeyframeCount : 1\n");
+CATALOGUE_TEST(C43) {
+  expectCfgRow("C43", "PMeshMode : d3dmc\nKeyframeCount : 1\n");
 }
 
 // GOMListFile rows: the list is goms.txt beside x.cfg (one coded frame unless the cfg says so).
@@ -1347,12 +1347,12 @@ DATASET_TEST(J14) {
                    "\"images\": \"cam/%04d.png\"}]}");
 }
 
-DATASET_TEST(J21) {
+DATASET_TEST(J23) {
   // The apps that write files named by cameras read datasets through the same check (the other
   // refused names: DatasetJson.CameraNamesMustBeFileNames).
-  expectDatasetRow("J21", "\"name\": \"cam\"", "\"name\": \"../..\"");
-  expectRow("J21", "3dvo-recon", {"-i", "x", "-o", "out", "--WriteSilhouettes=true"});
-  expectRow("J21", "3dvo-render", {"-i", "x", "-o", "out"});
+  expectDatasetRow("J23", "\"name\": \"cam\"", "\"name\": \"../..\"");
+  expectRow("J23", "3dvo-recon", {"-i", "x", "-o", "out", "--WriteSilhouettes=true"});
+  expectRow("J23", "3dvo-render", {"-i", "x", "-o", "out"});
 }
 
 DATASET_TEST(J15) {
