@@ -1,5 +1,6 @@
 #include "common/config.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +8,7 @@
 
 #include "common/error.h"
 #include "common/file_io.h"
+#include "common/version.h"
 
 namespace tdvo {
 
@@ -23,6 +25,27 @@ std::string formatDouble(double v) {
   char buffer[32];
   auto r = std::to_chars(buffer, buffer + sizeof buffer, v);
   return std::string(buffer, r.ptr);
+}
+
+// Edit distance between a and b (insertions, deletions, substitutions and swaps of two
+// neighbouring characters each cost 1), ignoring case: how far a mistyped key is from a real one.
+size_t editDistance(const std::string& a, const std::string& b) {
+  auto lower = [](char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; };
+  const size_t n = a.size(), m = b.size();
+  std::vector<std::vector<size_t>> d(n + 1, std::vector<size_t>(m + 1));
+  for (size_t i = 0; i <= n; ++i)
+    d[i][0] = i;
+  for (size_t j = 0; j <= m; ++j)
+    d[0][j] = j;
+  for (size_t i = 1; i <= n; ++i)
+    for (size_t j = 1; j <= m; ++j) {
+      const size_t cost = lower(a[i - 1]) == lower(b[j - 1]) ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && lower(a[i - 1]) == lower(b[j - 2]) &&
+          lower(a[i - 2]) == lower(b[j - 1]))
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[n][m];
 }
 
 }  // namespace
@@ -115,7 +138,11 @@ const OptionTable::Option* OptionTable::find(const std::string& key) const {
 
 void OptionTable::set(const std::string& key, const std::string& value, const std::string& origin) {
   Option* o = find(key);
-  if (!o) throw Error(origin + ": unknown key '" + key + "' (see --help)");
+  if (!o) {
+    const std::string near = closestKey(key);
+    throw Error(origin + ": unknown key '" + key + "' (" +
+                (near.empty() ? std::string("see --help") : "did you mean " + near + "?") + ")");
+  }
   try {
     o->parse(value);
   } catch (const std::string& message) {
@@ -124,13 +151,35 @@ void OptionTable::set(const std::string& key, const std::string& value, const st
   o->set = true;
 }
 
+std::string OptionTable::closestKey(const std::string& key) const {
+  // A key is suggested when it is within a third of its length of what was typed (at least 1,
+  // at most 3 edits) and no other key is as near.
+  const size_t limit = std::clamp<size_t>(key.size() / 3, 1, 3);
+  std::string best;
+  size_t bestDistance = limit + 1;
+  bool tie = false;
+  for (const Option& o : options_) {
+    const size_t d = editDistance(key, o.key);
+    if (d < bestDistance) {
+      best = o.key;
+      bestDistance = d;
+      tie = false;
+    } else if (d == bestDistance) {
+      tie = true;
+    }
+  }
+  return tie ? std::string() : best;
+}
+
 bool OptionTable::wasSet(const std::string& key) const {
   const Option* o = find(key);
   return o && o->set;
 }
 
 void OptionTable::parseText(const std::string& text, const std::string& origin) {
-  std::istringstream in(text);
+  // A UTF-8 byte-order mark (as some Windows editors write) is not part of the first key.
+  const bool bom = text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0;
+  std::istringstream in(bom ? text.substr(3) : text);
   std::string line;
   int lineNumber = 0;
   while (std::getline(in, line)) {
@@ -154,11 +203,24 @@ void OptionTable::parseFile(const std::string& path) {
   parseText(std::string(bytes.begin(), bytes.end()), path);
 }
 
+void OptionTable::addVersionLines(const std::vector<std::string>& lines) {
+  versionLines_.insert(versionLines_.end(), lines.begin(), lines.end());
+}
+
 bool OptionTable::parseCommandLine(int argc, const char* const* argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "-h" || arg == "--help") {
       std::fputs(helpText().c_str(), stdout);
+      return false;
+    }
+    if (arg == "--version") {
+      std::string text = programName_ + " (3DVO " + releaseVersion() + ")\n";
+      for (const std::string& line : versionLines_)
+        text += "  " + line + "\n";
+      for (const std::string& line : coreLibraryVersions())
+        text += "  " + line + "\n";
+      std::fputs(text.c_str(), stdout);
       return false;
     }
     if (arg == "-c") {
@@ -184,8 +246,8 @@ bool OptionTable::parseCommandLine(int argc, const char* const* argv) {
       const std::string key = arg.substr(2, eq == std::string::npos ? std::string::npos : eq - 2);
       const Option* o = find(key);
       if (eq == std::string::npos) {
-        if (!o || !o->isBool)
-          throw Error("option '" + arg + "' needs a value: --" + key + "=VALUE");
+        if (!o) set(key, "true", "option " + arg);  // throws: unknown key
+        if (!o->isBool) throw Error("option '" + arg + "' needs a value: --" + key + "=VALUE");
         set(key, "true", "option " + arg);
       } else {
         set(key, arg.substr(eq + 1), "option " + arg);
@@ -202,6 +264,7 @@ std::string OptionTable::helpText() const {
   out += "  -c FILE          read a cfg file (Key : value lines); may be repeated, later wins\n";
   out += "  --Key=VALUE      set one key; applied in order with the -c files\n";
   out += "  -h, --help       print this help\n";
+  out += "  --version        print the 3DVO, stream syntax and library versions\n";
   std::string section;
   for (const Option& o : options_) {
     if (o.section != section) {

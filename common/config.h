@@ -37,8 +37,13 @@ class OptionTable {
   void addEnum(const std::string& key, E& field, std::vector<std::pair<std::string, E>> names,
                const std::string& help);
 
-  // Applies the command line. Returns false when --help was asked for (the help has then been
-  // printed to stdout and the caller should exit 0). Throws Error on any bad option.
+  // Lines --version prints after the release and the core libraries (common/version.h): the
+  // stream syntax version and the libraries only this app links (Draco, x264, OpenMesh ...).
+  void addVersionLines(const std::vector<std::string>& lines);
+
+  // Applies the command line. Returns false when --help or --version was asked for (the text
+  // has then been printed to stdout and the caller should exit 0). Throws Error on any bad
+  // option.
   bool parseCommandLine(int argc, const char* const* argv);
 
   // Applies one cfg file / one text of cfg lines (`origin` names it in error messages).
@@ -68,9 +73,12 @@ class OptionTable {
   };
   Option& addOption(const std::string& key, const std::string& help);
   Option* find(const std::string& key);
+  // The registered key nearest to a mistyped `key`, or "" when none is near enough.
+  std::string closestKey(const std::string& key) const;
   const Option* find(const std::string& key) const;
 
   std::string programName_, usage_, currentSection_;
+  std::vector<std::string> versionLines_;
   std::vector<Option> options_;
   std::vector<std::string> filesRead_;
 };

@@ -1,6 +1,7 @@
 #include "common/dataset.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -134,6 +135,25 @@ size_t Dataset::cameraIndex(const std::string& name) const {
   throw Error("dataset has no camera named '" + name + "'");
 }
 
+void checkCameraName(const std::string& name, const std::string& where) {
+  bool safe = !name.empty() && name != "." && name != ".." && name.size() <= 255;
+  for (unsigned char c : name)
+    safe = safe && c != '/' && c != '\\' && c >= 0x20 && c != 0x7f;
+  std::string shown;  // control characters as \xNN: the message stays one line
+  for (unsigned char c : name) {
+    if (c < 0x20 || c == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      shown += hex;
+    } else {
+      shown += static_cast<char>(c);
+    }
+  }
+  check(safe, where + ": camera name '" + shown +
+                  "' cannot name a folder (it must be one file name: not '.' or '..', no '/', "
+                  "'\\' or control characters, at most 255 bytes)");
+}
+
 void checkDataset(const Dataset& d, const std::string& name) {
   check(d.frameCount >= 1, name + ": frames.count must be at least 1");
   check(d.firstFrame >= 0, name + ": frames.first must not be negative");
@@ -147,6 +167,7 @@ void checkDataset(const Dataset& d, const std::string& name) {
     const Camera& c = dc.camera;
     const std::string where = name + ": cameras[" + std::to_string(i) + "]";
     check(!c.name.empty(), where + ".name: must not be empty");
+    checkCameraName(c.name, where + ".name");
     check(names.insert(c.name).second, where + ".name: camera name '" + c.name + "' repeats");
     check(c.width >= 1 && c.width <= 32767 && c.height >= 1 && c.height <= 32767,
           where + ": image size " + sizeText(c.width, c.height) + " out of range");

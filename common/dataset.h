@@ -71,6 +71,13 @@ Dataset parseDataset(const std::string& json, const std::string& name, const std
 // Checks a dataset's structure (what parseDataset checks), naming `name` in messages.
 void checkDataset(const Dataset& dataset, const std::string& name);
 
+// Camera names name files and folders inside an app's output folder (3dvo-recon's
+// silhouettes/NAME/, 3dvo-render's NAME/ of a leave-one-out run, 3dvo-synth's NAME/): a name
+// must be one file name, so that it can never choose a place outside that folder. Throws Error
+// "<where>: camera name '<name>' cannot name a folder (...)" for an empty name, "." or "..", a
+// name with '/', '\\' or a control character, or one longer than 255 bytes (docs/dataset.md).
+void checkCameraName(const std::string& name, const std::string& where);
+
 // The dataset.json text for a dataset placed in `outputFolder`: absolute paths stay as they are,
 // relative ones (relative to dataset.folder) are rewritten relative to `outputFolder` when both
 // lie under the same top-level folder (e.g. /work), else written absolute.

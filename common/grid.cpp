@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 #include "common/error.h"
 
@@ -16,6 +18,16 @@ Grid Grid::fromBounds(const Vec3d& lo, const Vec3d& hi, int bits) {
   for (int a = 0; a < 3; ++a)
     extent = std::max(extent, hi[a] - lo[a]);
   grid.step = extent > 0 ? extent / grid.maxCoordinate() : 1.0;
+  // A step below the smallest normal double loses precision (or is 0): positions could not come
+  // back within half a step, and the stream could not carry it (sh_grid_step must be positive).
+  if (!(grid.step >= std::numeric_limits<double>::min())) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "the extent %.17g is too small for a grid: its step (extent / %d) would be below "
+                  "the smallest normal double (%.17g); scale the input up",
+                  extent, grid.maxCoordinate(), std::numeric_limits<double>::min());
+    throw Error(text);
+  }
   return grid;
 }
 

@@ -22,7 +22,8 @@ struct Grid {
   double step = 1.0;
   int bits = 12;
 
-  // The grid for a bounding box [lo, hi]. A box of zero extent gets step 1.
+  // The grid for a bounding box [lo, hi]. A box of zero extent gets step 1; an extent so small
+  // that the step would not be a normal double (below 2.2e-308) is an Error.
   static Grid fromBounds(const Vec3d& lo, const Vec3d& hi, int bits);
 
   int32_t maxCoordinate() const { return (int32_t{1} << bits) - 1; }

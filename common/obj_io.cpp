@@ -71,6 +71,12 @@ class ObjParser {
     }
     if (mesh_.positions.empty()) throw Error(name_ + ": no vertices");
     if (mesh_.triangles.empty()) throw Error(name_ + ": no faces");
+    // Triangles with a repeated vertex are kept here (the encoder drops them, with a warning),
+    // but a mesh made of nothing else has no surface at all.
+    if (properTriangles_ == 0) {
+      lineNumber_ = firstFaceLine_;
+      fail("every face has a repeated vertex (degenerate): no triangle is left to code");
+    }
     return std::move(mesh_);
   }
 
@@ -106,8 +112,12 @@ class ObjParser {
       corners_.clear();
       for (size_t i = 1; i < tokens.size(); ++i)
         corners_.push_back(index(tokens[i]));
-      for (size_t i = 1; i + 1 < corners_.size(); ++i)
+      if (firstFaceLine_ == 0) firstFaceLine_ = lineNumber_;
+      for (size_t i = 1; i + 1 < corners_.size(); ++i) {
         mesh_.triangles.push_back({corners_[0], corners_[i], corners_[i + 1]});
+        properTriangles_ += corners_[0] != corners_[i] && corners_[i] != corners_[i + 1] &&
+                            corners_[0] != corners_[i + 1];
+      }
     } else if (keyword == "vt" || keyword == "vn" || keyword == "vp" || keyword == "o" ||
                keyword == "g" || keyword == "s" || keyword == "mtllib" || keyword == "usemtl") {
       // Not geometry 3DVO codes.
@@ -152,6 +162,8 @@ class ObjParser {
   size_t lineNumber_ = 0;
   uint32_t maxIndex_ = 0;    // largest 0-based vertex index in any face so far
   size_t maxIndexLine_ = 0;  // the line where it first appeared
+  size_t firstFaceLine_ = 0;
+  size_t properTriangles_ = 0;  // triangles with three different vertices
   Mesh mesh_;
   std::string pending_;  // the unfinished last line of the text fed so far
   std::vector<std::string_view> tokens_;

@@ -20,7 +20,9 @@ constexpr size_t kMaxObjTriangles = size_t{1} << 27;  // 4 x the codec's 2^25
 // polygons with more than three corners are triangulated as a fan around their first corner.
 // Normals, texture coordinates, groups, materials and comments are ignored. Throws Error
 // naming the file and line for anything malformed (bad numbers, indices out of range,
-// faces with fewer than three corners, unknown statements) and for a mesh without faces.
+// faces with fewer than three corners, unknown statements), for a mesh without faces and for
+// one whose every face has a repeated vertex. Triangles with a repeated vertex among proper
+// ones are kept (3dvo-enc drops them, counting them in a warning).
 Mesh readObj(const std::string& path);
 
 // Parses OBJ text; `name` is used in error messages only.

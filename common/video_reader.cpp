@@ -1,5 +1,7 @@
 #include "common/video_reader.h"
 
+#include <cstdio>
+
 extern "C" {
 #include <libavcodec/avcodec.h>
 #include <libavformat/avformat.h>
@@ -8,6 +10,7 @@ extern "C" {
 }
 
 #include "common/error.h"
+#include "common/ffmpeg_log.h"
 
 namespace tdvo {
 
@@ -52,6 +55,7 @@ struct VideoReader::State {
   int stream = -1;
   bool flushing = false, ended = false;
   int64_t position = 0;
+  int damagedFrames = 0;  // frames FFmpeg reported errors for (and concealed)
 
   ~State() {
     sws_freeContext(scaler);
@@ -63,9 +67,10 @@ struct VideoReader::State {
 };
 
 VideoReader::VideoReader(const std::string& path) : state_(std::make_unique<State>()) {
-  // FFmpeg's warnings about harmless stream quirks would clutter every app's stderr; errors are
-  // reported through exceptions anyway.
-  if (av_log_get_level() == AV_LOG_INFO) av_log_set_level(AV_LOG_ERROR);
+  // FFmpeg's warnings about harmless stream quirks would clutter every app's stderr, and its
+  // error lines would come before the app's own: they are routed away (common/ffmpeg_log.h);
+  // errors are reported through exceptions.
+  routeFfmpegLog();
   State& s = *state_;
   s.path = path;
   int ret = avformat_open_input(&s.format, path.c_str(), nullptr, nullptr);
@@ -127,7 +132,17 @@ bool decodeNext(VideoReader::State& s) {
   const std::string where = s.path + ": frame " + std::to_string(s.position);
   for (;;) {
     int ret = avcodec_receive_frame(s.decoder, s.frame);
-    if (ret == 0) return true;
+    if (ret == 0) {
+      // An input video is taken as FFmpeg decodes it, concealment included, but not silently:
+      // FFmpeg's own lines are routed away (common/ffmpeg_log.h), so the first few damaged
+      // frames are named here.
+      const std::string message = takeFfmpegError();
+      if (!message.empty() && ++s.damagedFrames <= 3)
+        std::fprintf(stderr, "warning: %s: FFmpeg reports '%s'; the frame is used as concealed%s\n",
+                     where.c_str(), message.c_str(),
+                     s.damagedFrames == 3 ? " (further such warnings for this video omitted)" : "");
+      return true;
+    }
     if (ret == AVERROR_EOF) {
       s.ended = true;
       return false;

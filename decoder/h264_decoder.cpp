@@ -8,6 +8,7 @@ extern "C" {
 #include <cstring>
 
 #include "common/error.h"
+#include "common/ffmpeg_log.h"
 
 namespace tdvo {
 
@@ -21,7 +22,13 @@ H264Decoder::H264Decoder(std::string context) : context_(std::move(context)) {
   // One thread and low delay: each access unit comes out as its picture at once.
   codec_->thread_count = 1;
   codec_->flags |= AV_CODEC_FLAG_LOW_DELAY;
-  codec_->err_recognition = AV_EF_EXPLODE;  // corrupt texture data is an error, not concealed
+  // Damaged texture data is an error, never concealed: FFmpeg stops at the first error it
+  // recognises (and checks what it can), conceals nothing, and every error it logs while decoding
+  // an access unit, or any error flag on the picture, fails that unit (decode()).
+  codec_->err_recognition = AV_EF_EXPLODE | AV_EF_CRCCHECK | AV_EF_BITSTREAM | AV_EF_BUFFER |
+                            AV_EF_CAREFUL | AV_EF_COMPLIANT | AV_EF_AGGRESSIVE;
+  codec_->error_concealment = 0;
+  routeFfmpegLog();
   if (avcodec_open2(codec_, codec, nullptr) < 0) throw Error("FFmpeg cannot open H.264 decoder");
 }
 
@@ -41,10 +48,24 @@ YuvPicture H264Decoder::decode(const std::vector<uint8_t>& accessUnit, int width
   // than the texture box: a picture larger than the box is refused before FFmpeg allocates it
   // (with room for FFmpeg's alignment of its buffers: 96 x 80 pictures are checked as 128 x 80).
   codec_->max_pixels = (static_cast<int64_t>(width) + 128) * (static_cast<int64_t>(height) + 128);
+  takeFfmpegError();  // a message from before this unit is not about it
+  // FFmpeg's first error message, if any, says what it found.
+  auto detail = []() {
+    const std::string message = takeFfmpegError();
+    return message.empty() ? std::string() : " (FFmpeg: " + message + ")";
+  };
   if (avcodec_send_packet(codec_, packet_) < 0)
-    throw Error(context_ + ": the H.264 decoder rejects the access unit");
+    throw Error(context_ + ": damaged H.264 access unit: the decoder rejects it" + detail());
   const int got = avcodec_receive_frame(codec_, frame_);
-  if (got < 0) throw Error(context_ + ": the H.264 access unit gives no picture");
+  if (got < 0)
+    throw Error(context_ + ": damaged H.264 access unit: it gives no picture" + detail());
+  const std::string logged = detail();
+  if (frame_->decode_error_flags != 0 || (frame_->flags & AV_FRAME_FLAG_CORRUPT) ||
+      !logged.empty()) {
+    av_frame_unref(frame_);
+    throw Error(context_ + ": damaged H.264 access unit" +
+                (logged.empty() ? std::string(" (FFmpeg flags the picture as corrupt)") : logged));
+  }
   if (frame_->format != AV_PIX_FMT_YUV420P || frame_->width != width || frame_->height != height)
     throw Error(context_ + ": H.264 picture is " + std::to_string(frame_->width) + "x" +
                 std::to_string(frame_->height) + " (format " + std::to_string(frame_->format) +

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "bitstream/camera_parameters.h"
+#include "bitstream/header_hash.h"
 #include "bitstream/units.h"
 #include "common/app.h"
 #include "common/config.h"
@@ -24,8 +25,10 @@
 #include "common/image.h"
 #include "common/md5.h"
 #include "common/obj_io.h"
+#include "common/progress.h"
 #include "common/sequence.h"
 #include "common/yuv.h"
+#include "decoder/decoder_version.h"
 #include "decoder/stream_decoder.h"
 
 using namespace tdvo;
@@ -231,6 +234,7 @@ int main(int argc, char** argv) {
     table.add("Threads", threads, 0, 256,
               "cameras whose textures are decoded in parallel (0 = hardware concurrency); the "
               "output, the MD5 lines and any error are the same for any value");
+    table.addVersionLines(decoderVersionLines());
     if (!table.parseCommandLine(argc, argv)) return 0;
     check(!streamPath.empty(), "no stream given (-i STREAM.3dvo; see --help)");
     checkFramePattern(meshPattern, "OutputMeshPattern");
@@ -294,6 +298,9 @@ int main(int argc, char** argv) {
                                       expectedLine + "', decoded '" + line + "'");
       ++lines;
     };
+    // Frames decoded, on stderr when it is a terminal (the count is known once the sequence
+    // header is read).
+    std::optional<Progress> progress;
     std::mutex pngMutex;
     std::map<std::pair<int, int>, std::vector<uint8_t>> pngs;  // (frame, camera): to be written
     decoder.decode(
@@ -305,6 +312,13 @@ int main(int argc, char** argv) {
                           formatObj(decoder.grid().dequantise(mesh)));
           vertexFrames += mesh.positions.size();
           ++frames;
+          if (!progress) {
+            const uint32_t all = decoder.sequenceHeader().sh_frame_count;
+            progress.emplace("3dvo-dec: frame",
+                             frameCount > 0 ? static_cast<size_t>(frameCount)
+                                            : static_cast<size_t>(all - outFirst));
+          }
+          progress->tick(static_cast<size_t>(frames));
         },
         [&](int frame, int camera, const YuvPicture& picture, const Image&) {
           report(textureHashLine(inputNumber(frame), camera, picture));
@@ -330,6 +344,8 @@ int main(int argc, char** argv) {
           std::lock_guard<std::mutex> lock(pngMutex);
           pngs[{frame, camera}] = std::move(png);
         });
+    // What the frame lines do not cover: the grid, the cameras, every header field.
+    report(sequenceHeaderHashLine(decoder.sequenceHeader()));
     if (!verifyPath.empty()) {
       size_t more = 0;
       while (expected->next(expectedLine))
@@ -354,6 +370,7 @@ int main(int argc, char** argv) {
     }
     if (!extractDir.empty())
       extractTextures(streamPath, streamPath, extractDir, extracted ? *extracted : *outputs);
+    progress.reset();  // clears its line before the summary
     if (extracted) extracted->commit();
     if (outputs) outputs->commit();
 

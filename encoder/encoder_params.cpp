@@ -57,8 +57,8 @@ void EncoderParams::registerOptions(OptionTable& t) {
         "deepest octree level of the motion clustering (capped at GridBits)");
   t.section("Keyframes (PMeshMode d3dmc or afxic)");
   t.add("KeyframeCount", keyframeCount, 0, static_cast<int>(kMaxGomFrames),
-        "keyframes per GOM, its first and last frame included (at least 2); the frames between "
-        "are linear interpolations; 0 = every frame is a keyframe");
+        "keyframes per GOM, its first and last frame included (2 or more; 1 is an error); the "
+        "frames between are linear interpolations; 0 = every frame is a keyframe");
   t.add("KeyframeMaxError", keyframeMaxError, 0, 1e9,
         "instead of KeyframeCount: add keyframes until no interpolated coordinate is off by "
         "more than this many grid units; 0 = off");
@@ -125,6 +125,9 @@ void EncoderParams::validate() const {
   check(!bitstreamFile.empty(), "BitstreamFile is not set (see --help)");
   if (!inputMeshPattern.empty()) checkFramePattern(inputMeshPattern, "InputMeshPattern");
   if (!reconMeshPattern.empty()) checkFramePattern(reconMeshPattern, "ReconMeshPattern");
+  check(keyframeCount != 1,
+        "KeyframeCount 1 is not possible: a GOM's first and last frames are always keyframes "
+        "(set 2 or more, or 0 for every frame)");
   check(!(keyframeCount > 0 && keyframeMaxError > 0),
         "KeyframeCount and KeyframeMaxError exclude each other: set one of them");
   check(pmeshMode != PMeshMode::kIntra || (keyframeCount == 0 && keyframeMaxError == 0),

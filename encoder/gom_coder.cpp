@@ -43,6 +43,8 @@ class GomCoder {
     for (Mesh& mesh : frames_) {
       inputs.push_back(grid_.quantise(mesh));
       mesh = Mesh();
+      // In a GOM of P meshes the first frame speaks for all (the others must have its triangles).
+      dropDegenerateTriangles(inputs.size() - 1, inputs.back(), !pMeshes || inputs.size() == 1);
     }
     if (pMeshes) {
       checkConstantConnectivity(inputs);
@@ -123,6 +125,25 @@ class GomCoder {
  private:
   std::string name(size_t k) const { return frameName_(first_ + k); }
 
+  // Triangles with a repeated vertex have no area and no orientation; Draco's Edgebreaker cannot
+  // code them (draco_encoder drops them as well). They are dropped, in every mode, and counted
+  // in a warning; the decoded frame has the input's other triangles (docs/user-guide.md).
+  void dropDegenerateTriangles(size_t k, IntMesh& mesh, bool warn) {
+    const size_t before = mesh.triangles.size();
+    mesh.triangles.erase(std::remove_if(mesh.triangles.begin(), mesh.triangles.end(),
+                                        [](const Triangle& t) {
+                                          return t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+                                        }),
+                         mesh.triangles.end());
+    const size_t dropped = before - mesh.triangles.size();
+    if (dropped > 0 && warn)
+      out_.warnings.push_back(name(k) + ": " + std::to_string(dropped) + " of " +
+                              std::to_string(before) +
+                              " triangles have a repeated vertex (degenerate); dropped");
+    check(!mesh.triangles.empty(),
+          name(k) + ": every triangle has a repeated vertex: no triangle is left to code");
+  }
+
   // P meshes carry positions only: the GOM's frames must share the first frame's connectivity.
   void checkConstantConnectivity(const std::vector<IntMesh>& inputs) const {
     const IntMesh& a = inputs[0];
@@ -140,9 +161,6 @@ class GomCoder {
   }
 
   void codeIMesh(size_t k, const IntMesh& input) {
-    for (const Triangle& t : input.triangles)
-      check(t[0] != t[1] && t[1] != t[2] && t[0] != t[2],
-            name(k) + ": triangle with a repeated vertex (degenerate face)");
     IMeshEncoding i =
         encodeIMesh(input, params_.gridBits, params_.dracoSpeed, params_.inputTriangleOrder);
     // Draco does not keep vertices that no triangle uses; say so rather than drop them quietly.

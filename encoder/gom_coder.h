@@ -47,8 +47,9 @@ struct GomContinuation {
 
 // Codes frames first .. first + frames.size() - 1 of a sequence as one GOM (`frames` are the
 // GOM's input meshes, taken over and released as soon as they are on the grid). `frameName(k)`
-// names sequence frame k in error messages. Throws Error on input the codec cannot represent
-// (connectivity changing inside a GOM of P meshes, degenerate triangles).
+// names sequence frame k in error messages. Triangles with a repeated vertex are dropped (a
+// warning counts them). Throws Error on input the codec cannot represent (connectivity changing
+// inside a GOM of P meshes).
 // With `continuation` (from the previous GOM, P-mesh modes only) the GOM continues that GOM's
 // connectivity without an I mesh when its first frame's connectivity equals it, else it starts
 // a random access point anyway; without, it is a random access point. `next`, when given,

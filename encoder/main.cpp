@@ -1,11 +1,13 @@
 // 3dvo-enc: encodes an OBJ mesh sequence into a .3dvo stream.
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <memory>
 #include <optional>
 
+#include "bitstream/header_hash.h"
 #include "common/app.h"
 #include "common/dataset.h"
 #include "common/file_io.h"
@@ -15,8 +17,13 @@
 #include "common/sequence.h"
 #include "common/yuv.h"
 #include "encoder/input_frames.h"
+#include "decoder/decoder_version.h"
 #include "encoder/sequence_encoder.h"
 #include "encoder/texture_encoder.h"
+
+extern "C" {
+#include <x264.h>
+}
 
 using namespace tdvo;
 
@@ -25,6 +32,9 @@ int main(int argc, char** argv) {
     EncoderParams params;
     OptionTable table("3dvo-enc", "3dvo-enc -c cfg/FILE.cfg [-c ...] [--Key=value ...]");
     params.registerOptions(table);
+    table.addVersionLines(decoderVersionLines());
+    table.addVersionLines(
+        {std::string("x264 ") + X264_POINTVER + " (build " + std::to_string(X264_BUILD) + ")"});
     if (!table.parseCommandLine(argc, argv)) return 0;
     params.validate();
     const auto start = std::chrono::steady_clock::now();
@@ -142,6 +152,7 @@ int main(int argc, char** argv) {
                         textureHashLine(params.firstFrame + frame, camera, picture).c_str());
           });
     }
+    std::printf("%s\n", sequenceHeaderHashLine(coded.stream, params.bitstreamFile).c_str());
     outputs.write(params.bitstreamFile, coded.stream.data(), coded.stream.size());
     outputs.commit();
 

@@ -120,7 +120,13 @@ Grid gridForSequence(const FrameSource& source, int bits, int threads,
         if (onFrameRead) onFrameRead(k);
       });
   check(any, "no vertex positions to bound");
-  return Grid::fromBounds(lo, hi, bits);
+  try {
+    return Grid::fromBounds(lo, hi, bits);
+  } catch (const Error& e) {
+    // Bad input: say which frames it is about.
+    throw Error(source.name(0) + (source.count > 1 ? " .. " + source.name(source.count - 1) : "") +
+                ": " + e.what());
+  }
 }
 
 EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,

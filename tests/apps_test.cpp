@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/gom_list.h"
+#include "bitstream/header_hash.h"
 #include "common/grid.h"
 #include "common/md5.h"
 #include "common/obj_io.h"
@@ -116,10 +117,11 @@ TEST_F(AppsTest, EncodeDecodeMd5LinesMatch) {
   ASSERT_EQ(enc.exitCode, 0) << enc.err;
   EXPECT_EQ(enc.err, "");
   const std::vector<std::string> encLines = test::linesStartingWith(enc.out, "MD5 ");
-  ASSERT_EQ(encLines.size(), static_cast<size_t>(kFrames));
+  ASSERT_EQ(encLines.size(), static_cast<size_t>(kFrames) + 1u);
   // The lines and files carry the input's frame numbers (1 .. 6), recorded in the stream.
   for (int f = 0; f < kFrames; ++f)
     EXPECT_EQ(encLines[f].rfind("MD5 frame=" + std::to_string(f + 1) + " geometry=", 0), 0u);
+  EXPECT_EQ(encLines.back().rfind("MD5 header=", 0), 0u);  // after the frames
   EXPECT_NE(enc.out.find("frames              : 6"), std::string::npos) << enc.out;
 
   const CommandResult dec = decode({"-i", "seq.3dvo", "-o", "out"});
@@ -147,9 +149,11 @@ TEST_F(AppsTest, EncodeDecodeMd5LinesMatch) {
   params.pmeshMode = PMeshMode::kIntra;
   const Grid grid = gridForSequence(input, 11);
   std::vector<std::string> libraryLines;
-  encodeSequence(params, grid, input, {}, [&](int frame, const IntMesh& mesh) {
-    libraryLines.push_back(geometryHashLine(frame + 1, mesh));
-  });
+  const EncodedSequence library =
+      encodeSequence(params, grid, input, {}, [&](int frame, const IntMesh& mesh) {
+        libraryLines.push_back(geometryHashLine(frame + 1, mesh));
+      });
+  libraryLines.push_back(sequenceHeaderHashLine(library.stream, "library"));
   EXPECT_EQ(libraryLines, encLines);
   for (int f = 0; f < kFrames; ++f) {
     const std::string decoded = test::readText(dir_.file("out/" + expectedNames[f]));
@@ -179,7 +183,7 @@ TEST_F(AppsTest, PMeshesAndGzipInput) {
   const CommandResult dec = decode({"-i", "seq.3dvo"});
   ASSERT_EQ(dec.exitCode, 0) << dec.err;
   const std::vector<std::string> lines = test::linesStartingWith(enc.out, "MD5 ");
-  EXPECT_EQ(lines.size(), static_cast<size_t>(kFrames));
+  EXPECT_EQ(lines.size(), static_cast<size_t>(kFrames) + 1u);  // and the header line
   EXPECT_EQ(test::linesStartingWith(dec.out, "MD5 "), lines);
 }
 
@@ -213,7 +217,7 @@ TEST_F(AppsTest, VerifyPassesAndFailsOnAnEditedLog) {
   test::writeText(dir_.file("long.log"),
                   enc.out + "MD5 frame=7 geometry=00000000000000000000000000000000\n");
   expectFailure(kDecoder, {"-i", "seq.3dvo", "-o", "out", "--verify", "long.log"},
-                {"long.log: has 7 MD5 lines, the stream gives 6"});
+                {"long.log: has 8 MD5 lines, the stream gives 7"});
 }
 
 // Issue 17.2: the output carries the input's frame numbers (FirstFrame 1 here, recorded in the
@@ -307,6 +311,65 @@ TEST_F(AppsTest, HelpListsTheKeys) {
   for (const char* key : {"BitstreamFile (-i)", "OutputDir (-o)", "VerifyMd5 (--verify)"})
     EXPECT_NE(dec.out.find(key), std::string::npos) << key;
   EXPECT_EQ(test::listFolder(dir_.path()), std::vector<std::string>{"in"});
+}
+
+// Every app answers --version with the 3DVO release and the libraries it links (exit 0, no
+// other output, no file).
+TEST_F(AppsTest, VersionOnEveryApp) {
+  const std::vector<std::string> core = {
+      "(3DVO ",           "zlib ", "libpng ", "FFmpeg libavcodec ", "FFmpeg libavformat ",
+      "FFmpeg libavutil "};
+  const std::vector<std::pair<std::string, std::vector<std::string>>> apps = {
+      {"3dvo-enc", {"stream syntax version ", "Draco ", "x264 "}},
+      {"3dvo-dec", {"stream syntax version ", "Draco "}},
+      {"3dvo-metrics", {"stream syntax version "}},
+      {"3dvo-recon", {"OpenMesh ", "OpenCV "}},
+      {"3dvo-render", {}},
+      {"3dvo-import", {}},
+      {"3dvo-synth", {}},
+      {"3dvo-sample", {}}};
+  for (const auto& [app, own] : apps) {
+    const CommandResult r = test::run(dir_, std::string(TDVO_BIN_DIR) + "/" + app, {"--version"});
+    EXPECT_EQ(r.exitCode, 0) << app << ": " << r.err;
+    EXPECT_EQ(r.err, "") << app;
+    EXPECT_EQ(r.out.rfind(app + " (3DVO ", 0), 0u) << r.out;
+    for (const std::vector<std::string>* list : {&core, &own})
+      for (const std::string& line : *list)
+        EXPECT_NE(r.out.find(line), std::string::npos) << app << " lacks '" << line << "':\n"
+                                                       << r.out;
+  }
+  // 3dvo-rd (Python) names the release, Python and its packages, importing none of them.
+  const CommandResult rd = test::run(dir_, std::string(TDVO_BIN_DIR) + "/3dvo-rd", {"--version"});
+  EXPECT_EQ(rd.exitCode, 0) << rd.err;
+  EXPECT_EQ(rd.out.rfind("3dvo-rd (3DVO ", 0), 0u) << rd.out;
+  for (const char* line : {"Python ", "distributed", "numpy"})
+    EXPECT_NE(rd.out.find(line), std::string::npos) << line << " missing in:\n" << rd.out;
+  EXPECT_EQ(test::listFolder(dir_.path()), std::vector<std::string>{"in"});
+}
+
+// Real captures with degenerate triangles (thomas, frames 1..4 of tvmc-varying: 10 to 14 each)
+// encode in intra mode, one warning per frame counting them, and decode to the encoder's MD5
+// lines (--verify).
+TEST_F(AppsTest, RealMeshesWithDegenerateTrianglesEncode) {
+  const std::string folder = std::string(TDVO_SHARED_DATA_DIR) + "/meshseq/tvmc-varying";
+  if (!std::filesystem::exists(folder + "/thomas_fr0001.obj.gz"))
+    GTEST_SKIP() << "../shared/data/meshseq/tvmc-varying is absent";
+  const CommandResult enc =
+      test::run(dir_, kEncoder,
+                {"--InputMeshPattern=" + folder + "/thomas_fr%04d.obj.gz", "--FirstFrame=1",
+                 "--FrameCount=4", "--PMeshMode=intra", "--GOMSize=1", "--BitstreamFile=t.3dvo"});
+  ASSERT_EQ(enc.exitCode, 0) << enc.err;
+  std::vector<std::string> warnings;
+  for (const std::string& line : test::lines(enc.err))
+    if (line.find("triangles have a repeated vertex (degenerate); dropped") != std::string::npos)
+      warnings.push_back(line);
+  EXPECT_EQ(warnings.size(), 4u) << enc.err;
+  std::string log;
+  for (const std::string& line : test::linesStartingWith(enc.out, "MD5 "))
+    log += line + "\n";
+  test::writeText(dir_.file("t.md5"), log);
+  const CommandResult dec = test::run(dir_, kDecoder, {"-i", "t.3dvo", "--verify", "t.md5"});
+  EXPECT_EQ(dec.exitCode, 0) << dec.err;
 }
 
 // ---- Encoder: bad input ----

@@ -202,13 +202,56 @@ TEST(Config, UnknownKeyInFileNamesFileLineAndKey) {
   const std::string path = dir.file("bad.cfg");
   test::writeText(path, "Bits : 10\n# fine\nBitz : 11\n");
   Params p;
-  EXPECT_EQ(p.parseError({"-c", path}), path + ":3: unknown key 'Bitz' (see --help)");
+  EXPECT_EQ(p.parseError({"-c", path}), path + ":3: unknown key 'Bitz' (did you mean Bits?)");
+}
+
+TEST(Config, UnknownKeySuggestsTheNearestKey) {
+  Params p;
+  // Case, a swapped pair, a missing or an extra letter: the nearest key is named.
+  EXPECT_EQ(p.textError("verbose : true\n"),
+            "a.cfg:1: unknown key 'verbose' (did you mean Verbose?)");
+  EXPECT_EQ(p.textError("Sped : fast\n"), "a.cfg:1: unknown key 'Sped' (did you mean Speed?)");
+  EXPECT_EQ(p.textError("Outpt : x\n"), "a.cfg:1: unknown key 'Outpt' (did you mean Output?)");
+  EXPECT_EQ(p.textError("Tracex : 1\n"), "a.cfg:1: unknown key 'Tracex' (did you mean Trace?)");
+  // Nothing near: no guess.
+  EXPECT_EQ(p.textError("Colour : red\n"), "a.cfg:1: unknown key 'Colour' (see --help)");
+  EXPECT_EQ(p.textError("Q : 1\n"), "a.cfg:1: unknown key 'Q' (see --help)");
+}
+
+TEST(Config, Utf8ByteOrderMarkIsAccepted) {
+  Params p;
+  p.table.parseText(
+      "\xEF\xBB\xBF"
+      "Bits : 12\nRate : 30\n",
+      "bom.cfg");
+  EXPECT_EQ(p.bits, 12);
+  EXPECT_EQ(p.rate, 30.0);
+  // Only at the start of the text: elsewhere it is part of a key.
+  Params q;
+  EXPECT_EQ(q.textError("Bits : 12\n\xEF\xBB\xBF"
+                        "Rate : 30\n")
+                .rfind("a.cfg:2: unknown key", 0),
+            0u);
+}
+
+TEST(Config, VersionPrintsTheLibraries) {
+  Params p;
+  p.table.addVersionLines({"stream syntax version 7"});
+  testing::internal::CaptureStdout();
+  const bool go = p.parse({"--version"});
+  const std::string out = testing::internal::GetCapturedStdout();
+  EXPECT_FALSE(go);
+  EXPECT_EQ(out.rfind("tool (3DVO ", 0), 0u) << out;
+  for (const char* line : {"stream syntax version 7", "zlib ", "libpng ", "FFmpeg libavcodec ",
+                           "FFmpeg libavformat ", "FFmpeg libavutil ", "FFmpeg libswscale "})
+    EXPECT_NE(out.find(line), std::string::npos) << line << " missing in:\n" << out;
 }
 
 TEST(Config, UnknownKeyOnCommandLine) {
   Params p;
-  EXPECT_EQ(p.parseError({"--Bitz=3"}), "option --Bitz=3: unknown key 'Bitz' (see --help)");
-  EXPECT_EQ(p.parseError({"--Bitz"}), "option '--Bitz' needs a value: --Bitz=VALUE");
+  EXPECT_EQ(p.parseError({"--Bitz=3"}), "option --Bitz=3: unknown key 'Bitz' (did you mean Bits?)");
+  EXPECT_EQ(p.parseError({"--Bitz"}), "option --Bitz: unknown key 'Bitz' (did you mean Bits?)");
+  EXPECT_EQ(p.parseError({"--Bits"}), "option '--Bits' needs a value: --Bits=VALUE");
   EXPECT_EQ(p.parseError({"stray"}), "unknown argument 'stray' (see --help)");
 }
 
@@ -359,7 +402,8 @@ TEST(Config, EncoderValidate) {
     params.validate();
     FAIL() << "no error";
   } catch (const Error& e) {
-    EXPECT_EQ(std::string(e.what()), "InputMeshPattern is not set, nor a Dataset with meshes (see --help)");
+    EXPECT_EQ(std::string(e.what()),
+              "InputMeshPattern is not set, nor a Dataset with meshes (see --help)");
   }
   params.inputMeshPattern = "in/%04d.obj";
   params.bitstreamFile = "x.3dvo";

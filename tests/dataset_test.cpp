@@ -160,6 +160,22 @@ TEST(Dataset, StructuralErrorsNameTheField) {
   expectError(two, "camera name 'a' repeats");
 }
 
+// Camera names name output folders: anything but one plain file name is refused, so that no name
+// can choose where an app writes (../.., absolute names, separators, control characters).
+TEST(Dataset, CameraNamesMustBeFileNames) {
+  for (const char* json : {"..", ".", "../..", "../../escape", "/tmp/x", "a/b", "a\\\\b", "a\\tb",
+                           "a\\u0000b", "a\\u007fb"})
+    expectError(replaced(kMinimal, "\"name\": \"a\"", std::string("\"name\": \"") + json + "\""),
+                "cameras[0].name: camera name '");
+  expectError(replaced(kMinimal, "\"name\": \"a\"", "\"name\": \"" + std::string(256, 'n') + "\""),
+              "cannot name a folder");
+  // A tab is shown escaped: the error stays one line.
+  expectError(replaced(kMinimal, "\"name\": \"a\"", "\"name\": \"a\\tb\""), "'a\\x09b'");
+  for (const std::string fine : {"cam0", "Camera 1", "..a", "a.b", "dinoSR0001"})
+    EXPECT_NO_THROW(checkCameraName(fine, "x")) << fine;
+  EXPECT_NO_THROW(checkCameraName(std::string(255, 'n'), "x"));
+}
+
 TEST(Dataset, FileValidationAndFrameReading) {
   TempFolder dir("dataset_files");
   Dataset d = smallDataset(dir.str());

@@ -475,6 +475,13 @@ class ErrorsTest : public testing::Test {
     expectRow(id, "3dvo-enc", {"--Dataset=rig", "--FrameCount=1", "-o", "out/x.3dvo"});
   }
 
+  // Texture rows decode without -o: what a failed textured decode leaves in its output folder
+  // is the output-safety rows' business; these rows are about the error.
+  void expectTextureRow(const std::string& id, const std::vector<Unit>& units) {
+    test::writeBytes(dir_.file("x.3dvo"), join(units));
+    expectRow(id, "3dvo-dec", {"-i", "x.3dvo"});
+  }
+
   TempDir dir_{"errors"};
 };
 
@@ -1070,6 +1077,60 @@ CATALOGUE_TEST(P08) {
   expectUnitsRow("P08", units);
 }
 
+// ---- Texture units ----
+
+// A textured stream: the committed conformance stream with 3 cameras.
+std::vector<Unit> textureUnits() {
+  return split(test::readBytes(std::string(TDVO_SOURCE_DIR) +
+                               "/conformance/streams/texture_bbox_mb128_g3.3dvo"));
+}
+
+// Payload offsets of the NAL units of a texture unit (after each start code; tx_frame and
+// tx_camera take the first 6 bytes).
+std::vector<size_t> nalStarts(const std::vector<uint8_t>& p) {
+  std::vector<size_t> starts;
+  for (size_t b = 6; b + 3 <= p.size(); ++b)
+    if (p[b] == 0 && p[b + 1] == 0 && p[b + 2] == 1) starts.push_back(b + 3);
+  return starts;
+}
+
+std::vector<size_t> textureUnitIndices(const std::vector<Unit>& units) {
+  std::vector<size_t> textures;
+  for (size_t i = 0; i < units.size(); ++i)
+    if (units[i].type == static_cast<uint8_t>(UnitType::kTexture)) textures.push_back(i);
+  return textures;
+}
+
+CATALOGUE_TEST(T01) {
+  std::vector<Unit> units = textureUnits();
+  int spsSeen = 0;
+  for (size_t i : textureUnitIndices(units))
+    for (size_t nal : nalStarts(units[i].payload))
+      if (units[i].payload[4] == 0 && units[i].payload[5] == 0 &&  // tx_camera 0
+          (units[i].payload[nal] & 0x1f) == 7 && ++spsSeen == 2) {
+        units[i].payload.at(nal + 4) ^= 0x5a;  // inside log2_max_frame_num_minus4 and after
+        expectTextureRow("T01", units);
+        return;
+      }
+  FAIL() << "camera 0 has no second SPS in the stream";
+}
+
+CATALOGUE_TEST(T02) {
+  const std::vector<Unit> units = textureUnits();
+  const std::vector<size_t> textures = textureUnitIndices(units);
+  ASSERT_GE(textures.size(), 3u);
+  for (size_t which : {textures.front(), textures[textures.size() / 2], textures.back()}) {
+    SCOPED_TRACE("texture unit " + std::to_string(which));
+    std::vector<Unit> damaged = units;
+    std::vector<uint8_t>& p = damaged[which].payload;
+    // The slice data is the last NAL unit.
+    const size_t lastNal = nalStarts(p).back();
+    ASSERT_LT(lastNal + 8, p.size());
+    p[lastNal + (p.size() - lastNal) / 2] ^= 0x5a;
+    expectTextureRow("T02", damaged);
+  }
+}
+
 // ---- 3dvo-dec options ----
 
 CATALOGUE_TEST(D01) {
@@ -1102,6 +1163,22 @@ CATALOGUE_TEST(D04) {
   log += "MD5 frame=6 geometry=00000000000000000000000000000000\n";
   test::writeText(dir_.file("x.md5"), log);
   expectRow("D04", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--verify", "x.md5"});
+}
+
+CATALOGUE_TEST(D12) {
+  // The log of the base stream; then the same stream with its grid moved: every grid integer,
+  // so every frame line, is the same, but every OBJ coordinate differs.
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  const CommandResult good = test::run(dir_, kBin + "/3dvo-dec", {"-i", "x.3dvo"});
+  ASSERT_EQ(good.exitCode, 0) << good.err;
+  std::string log;
+  for (const std::string& line : test::linesStartingWith(good.out, "MD5 "))
+    log += line + "\n";
+  test::writeText(dir_.file("x.md5"), log);
+  std::vector<Unit> units = baseUnits();
+  putF64(units[0].payload, kShOrigin, 1000.0);
+  test::writeBytes(dir_.file("x.3dvo"), join(units));
+  expectRow("D12", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--verify", "x.md5"});
 }
 
 CATALOGUE_TEST(D05) {
@@ -1237,6 +1314,10 @@ CATALOGUE_TEST(O16) {
   expectRow("O16", "3dvo-enc", encoderArgs(1));
 }
 
+CATALOGUE_TEST(O17) {
+  expectObjRow("O17", "v 0 0 0\nv 5e-324 0 0\nv 0 5e-324 0\nf 1 2 3\n");
+}
+
 // ---- cfg and options (3dvo-enc) ----
 
 CATALOGUE_TEST(C01) {
@@ -1248,7 +1329,7 @@ CATALOGUE_TEST(C01) {
 }
 
 CATALOGUE_TEST(C02) {
-  expectCfgRow("C02", "GridBits : 10\n\nGridBitz : 10\n");
+  expectCfgRow("C02", "GridBits : 10\n\nFrobnicate : 10\n");
 }
 
 CATALOGUE_TEST(C03) {
@@ -1371,6 +1452,14 @@ CATALOGUE_TEST(C40) {
 
 CATALOGUE_TEST(C41) {
   expectCfgRow("C41", "ReconMeshPattern : out/r%d.obj\n", {"-o", "out/r0.obj"});
+}
+
+CATALOGUE_TEST(C42) {
+  expectCfgRow("C42", "GridBits : 10\n\nGridBitz : 10\n");
+}
+
+CATALOGUE_TEST(C43) {
+  expectCfgRow("C43", "PMeshMode : d3dmc\nKeyframeCount : 1\n");
 }
 
 // GOMListFile rows: the list is goms.txt beside x.cfg (one coded frame unless the cfg says so).
@@ -1582,6 +1671,14 @@ DATASET_TEST(J14) {
                    "\"images\": \"cam/%04d.png\"}]}");
 }
 
+DATASET_TEST(J23) {
+  // The apps that write files named by cameras read datasets through the same check (the other
+  // refused names: DatasetJson.CameraNamesMustBeFileNames).
+  expectDatasetRow("J23", "\"name\": \"cam\"", "\"name\": \"../..\"");
+  expectRow("J23", "3dvo-recon", {"-i", "x", "-o", "out", "--WriteSilhouettes=true"});
+  expectRow("J23", "3dvo-render", {"-i", "x", "-o", "out"});
+}
+
 DATASET_TEST(J15) {
   expectDatasetRow("J15", "cam/%04d.png", "cam/%s.png");
 }
@@ -1693,7 +1790,7 @@ TEST(DecodingWork, TheDecoderOptionSetsTheLimit) {
     const CommandResult r =
         test::run(dir, dec, {"-i", "x.3dvo", "--MaxVertexFramesPerByte=" + std::to_string(limit)});
     EXPECT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_EQ(test::linesStartingWith(r.out, "MD5 ").size(), 100u) << limit;
+    EXPECT_EQ(test::linesStartingWith(r.out, "MD5 frame=").size(), 100u) << limit;
   }
   const CommandResult r =
       test::run(dir, dec, {"-i", "x.3dvo", "--MaxVertexFramesPerByte=" + std::to_string(need - 1)});

@@ -201,7 +201,7 @@ TEST(GomListFile, TexturesHaveAnIdrPictureAtEveryGomStartAndNowhereElse) {
                                             {"-i", "s.3dvo", "--verify", "enc.log"});
   EXPECT_EQ(dec.exitCode, 0) << dec.out << dec.err;
   const std::vector<std::string> lines = test::linesStartingWith(enc.out, "MD5 ");
-  EXPECT_EQ(lines.size(), 6u + 6u * 3u);  // geometry and 3 cameras per frame
+  EXPECT_EQ(lines.size(), 6u + 6u * 3u + 1u);  // geometry and 3 cameras per frame, the header
   EXPECT_EQ(test::linesStartingWith(dec.out, "MD5 "), lines);
 
   const std::vector<uint8_t> stream = test::readBytes(dir.file("s.3dvo"));

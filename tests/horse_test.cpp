@@ -72,8 +72,8 @@ TEST_P(HorseTest, EncoderAndDecoderAgree) {
                  "--GridBits=12", "--GOMSize=" + std::to_string(params.gomSize),
                  std::string("--PMeshMode=") + modeName(params.pmeshMode), "-o", "horse.3dvo"});
   ASSERT_EQ(enc.exitCode, 0) << enc.err;
-  const std::vector<std::string> encLines = test::linesStartingWith(enc.out, "MD5 ");
-  // The apps' lines carry the input's frame numbers (FirstFrame 1), the library's count from 0.
+  const std::vector<std::string> encLines = test::linesStartingWith(enc.out, "MD5 frame=");
+  // The apps' frame lines (the header line follows them) carry the input's frame numbers (FirstFrame 1), the library's count from 0.
   std::vector<std::string> numbered;
   for (size_t k = 0; k < r.decoderFrames.size(); ++k)
     numbered.push_back(geometryHashLine(static_cast<int>(k) + 1, r.decoderFrames[k]));
@@ -83,7 +83,9 @@ TEST_P(HorseTest, EncoderAndDecoderAgree) {
       test::run(dir, std::string(TDVO_BIN_DIR) + "/3dvo-dec",
                 {"-i", "horse.3dvo", "-o", "out", "--verify", "enc.log"});
   ASSERT_EQ(dec.exitCode, 0) << dec.err;
-  EXPECT_EQ(test::linesStartingWith(dec.out, "MD5 "), encLines);
+  EXPECT_EQ(test::linesStartingWith(dec.out, "MD5 frame="), encLines);
+  EXPECT_EQ(test::linesStartingWith(dec.out, "MD5 header="),
+            test::linesStartingWith(enc.out, "MD5 header="));
   EXPECT_EQ(test::listFolder(dir.path() / "out").size(), static_cast<size_t>(kFrames) + 1u);
   // gom_starts.txt lists the GOMs' first frames (input frame numbers, from 1).
   std::vector<int> starts;

@@ -351,15 +351,40 @@ TEST(StreamDecoder, NotA3dvoStream) {
             "c.3dvo: not a 3DVO stream (the first four bytes are not \"3DVO\")");
 }
 
-TEST(SequenceEncoder, RejectsDegenerateTriangles) {
-  std::vector<Mesh> frames = test::waveSheet(5, 5, 2);
-  frames[1].triangles[3] = {4, 4, 5};
+// Triangles with a repeated vertex (real captures have them) are dropped in every mode, with one
+// warning per I mesh that counts them; the rest round-trips as if they had never been there,
+// through the P-mesh paths and their closed-loop check too.
+TEST(SequenceEncoder, DropsDegenerateTrianglesInEveryMode) {
+  const std::vector<Mesh> clean = test::waveSheet(5, 5, 4);
+  std::vector<Mesh> frames = clean;
+  for (Mesh& m : frames) {
+    m.triangles.insert(m.triangles.begin() + 3, {4, 4, 5});
+    m.triangles.push_back({7, 8, 7});
+  }
+  const std::string count = "2 of " + std::to_string(frames[0].triangles.size()) +
+                            " triangles have a repeated vertex (degenerate); dropped";
+  for (PMeshMode mode : {PMeshMode::kIntra, PMeshMode::kD3dmc, PMeshMode::kAfxic}) {
+    SCOPED_TRACE(static_cast<int>(mode));
+    testing::internal::CaptureStderr();
+    const test::RoundTrip r = encodeAndDecode(frames, paramsFor(10, 2, mode));
+    const std::string err = testing::internal::GetCapturedStderr();
+    checkRoundTrip(clean, r);
+    // Intra: every frame is an I mesh; P meshes: one I mesh per GOM of 2 frames.
+    size_t warnings = 0;
+    for (size_t at = err.find(count); at != std::string::npos; at = err.find(count, at + 1))
+      ++warnings;
+    EXPECT_EQ(warnings, mode == PMeshMode::kIntra ? 4u : 2u) << err;
+  }
+  // Nothing but degenerate triangles: no surface to code.
+  std::vector<Mesh> none = test::waveSheet(5, 5, 1);
+  none[0].triangles = {{1, 1, 2}, {3, 4, 4}};
   try {
-    encodeSequence(paramsFor(10, 1, PMeshMode::kIntra), gridForSequence(frames, 10), frames,
-                   {"a.obj", "b.obj"}, [](int, const IntMesh&) {});
+    encodeSequence(paramsFor(10, 1, PMeshMode::kIntra), gridForSequence(none, 10), none, {"a.obj"},
+                   [](int, const IntMesh&) {});
     FAIL() << "no error";
   } catch (const Error& e) {
-    EXPECT_EQ(std::string(e.what()), "b.obj: triangle with a repeated vertex (degenerate face)");
+    EXPECT_EQ(std::string(e.what()),
+              "a.obj: every triangle has a repeated vertex: no triangle is left to code");
   }
 }
 

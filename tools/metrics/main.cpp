@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bitstream/syntax.h"
 #include "common/app.h"
 #include "common/config.h"
 #include "common/error.h"
@@ -122,6 +123,7 @@ int main(int argc, char** argv) {
                       "  e.g. 3dvo-metrics -r seq/%04d.obj.gz --ReferenceFirstFrame=1 "
                       "-t out/%04d.obj --Correspondence=nearest --GroupSize=8 --CsvFile=m.csv");
     p.registerOptions(table);
+    table.addVersionLines({"stream syntax version " + std::to_string(kSyntaxVersion)});
     if (!table.parseCommandLine(argc, argv)) return 0;
     if (!p.texture.referenceDataset.empty() || !p.texture.testDataset.empty()) {
       check(p.referenceMeshes.empty() && p.testMeshes.empty(),

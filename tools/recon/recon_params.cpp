@@ -1,11 +1,17 @@
 #include "tools/recon/recon_params.h"
 
+#include <OpenMesh/Core/System/config.h>
+#include <opencv2/core/version.hpp>
+
 #include "common/error.h"
 #include "common/sequence.h"
 
 namespace tdvo {
 
 void addReconOptions(OptionTable& table, ReconParams& p) {
+  table.addVersionLines({"OpenMesh " + std::to_string(OM_GET_VER) + "." +
+                             std::to_string(OM_GET_MAJ) + "." + std::to_string(OM_GET_MIN),
+                         std::string("OpenCV ") + CV_VERSION});
   table.section("Input and output");
   table.add("Input", p.input,
             "dataset folder (dataset.json) or any input 3dvo-import recognises (Middlebury "

@@ -58,6 +58,7 @@ struct ReconParams {
 };
 
 // Registers every key in the table, bound to `params`.
+// (Also adds the --version lines of the libraries reconstruction links: OpenMesh, OpenCV.)
 void addReconOptions(OptionTable& table, ReconParams& params);
 
 // Checks the combination of values (ranges are checked by the table). Throws Error.

@@ -13,6 +13,7 @@ extern "C" {
 
 #include "common/error.h"
 #include "common/file_io.h"
+#include "common/ffmpeg_log.h"
 #include "common/yuv.h"
 
 namespace tdvo {
@@ -79,8 +80,9 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, double fram
   check(frameRate > 0 && std::isfinite(frameRate), path + ": the frame rate must be positive");
   check(crf >= 0 && crf <= 51, path + ": the CRF must be in 0..51");
   s.partial = s.staged.stage(path);
-  // x264 reports its settings and statistics at the info level: keep warnings and errors only.
-  av_log_set_level(std::min(av_log_get_level(), AV_LOG_WARNING));
+  // x264 reports its settings and statistics at the info level, and errors come through
+  // exceptions: FFmpeg's own lines are routed away (common/ffmpeg_log.h).
+  routeFfmpegLog();
   int r = avformat_alloc_output_context2(&s.format, nullptr, "mp4", s.partial.c_str());
   check(r >= 0 && s.format, path + ": cannot set up an MP4 file: " + avError(r));
   const AVCodec* codec = avcodec_find_encoder_by_name("libx264");

@@ -6,6 +6,7 @@ import shlex
 import sys
 
 from . import job as job_module
+from . import security
 from .report import write_outputs
 from .runner import run_sweep
 from .sweep import Identity, Sweep, SweepError
@@ -41,6 +42,13 @@ def _parser():
     run.add_argument("--scheduler", metavar="ADDRESS",
                      help="send the jobs to this running Dask scheduler (tcp://HOST:PORT, or "
                      "the file of `dask scheduler --scheduler-file`) instead of the local pool")
+    run.add_argument("--tls-ca-file", metavar="PEM", default=None,
+                     help="with --tls-cert and --tls-key: reach the scheduler over TLS (a "
+                     "tls:// address), trusting this CA (docs/rd.md, Security)")
+    run.add_argument("--tls-cert", metavar="PEM", default=None,
+                     help="the client's TLS certificate")
+    run.add_argument("--tls-key", metavar="PEM", default=None,
+                     help="the client's TLS private key")
     run.add_argument("--jobs", "-j", type=int, default=None, metavar="N",
                      help="local pool size (default: the core count)")
     run.add_argument("--force", action="store_true", help="recompute cached jobs too")
@@ -99,9 +107,14 @@ def main(argv=None):
                                                  j.setting_label))
             return 0
         if args.command == "run":
+            try:
+                tls = security.tls_options(args.tls_ca_file, args.tls_cert, args.tls_key)
+            except ValueError as e:
+                print("3dvo-rd: error: %s" % e, file=sys.stderr)
+                return 1
             summary, results = run_sweep(sweep, bin_dir, results_dir, scheduler=args.scheduler,
                                          jobs=args.jobs, force=args.force, timeout=args.timeout,
-                                         scratch_dir=args.scratch)
+                                         scratch_dir=args.scratch, tls=tls)
             identity_hashes = Identity(bin_dir).binary_hashes
             page = args.report
             complete = summary.failed == 0 and not summary.interrupted

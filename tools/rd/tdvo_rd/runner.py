@@ -18,6 +18,7 @@ import sys
 import traceback
 
 from . import job as job_module
+from . import security
 from .sweep import Identity, make_spec, prepare_datasets
 
 # Task retries on Dask for exceptions raised by run_job itself (e.g. an I/O error of the shared
@@ -104,16 +105,21 @@ def _run_local(pending, jobs, on_result):
             signal.signal(signal.SIGTERM, previous or signal.SIG_DFL)
 
 
-def _run_dask(pending, scheduler, on_result):
+def _run_dask(pending, scheduler, on_result, tls=None, log=None):
     import cloudpickle
     from distributed import Client, as_completed
+
+    warning = security.insecure_scheduler_warning(scheduler, tls=bool(tls))
+    if warning:
+        print(warning, file=log or sys.stderr, flush=True)
+    sec = security.make_security(tls)
 
     # Workers import nothing of this package: the job module travels with the task.
     cloudpickle.register_pickle_by_value(job_module)
     if os.path.isfile(scheduler):    # a file written by `dask scheduler --scheduler-file`
-        client = Client(scheduler_file=scheduler, timeout=30)
+        client = Client(scheduler_file=scheduler, timeout=30, security=sec)
     else:
-        client = Client(scheduler, timeout=30)
+        client = Client(scheduler, timeout=30, security=sec)
     futures = {}
     try:
         for spec in pending:
@@ -135,7 +141,7 @@ def _run_dask(pending, scheduler, on_result):
 
 
 def run_sweep(sweep, bin_dir, results_dir, scheduler=None, jobs=None, force=False, timeout=None,
-              scratch_dir=None, log=None):
+              scratch_dir=None, log=None, tls=None):
     """Runs every job of the sweep that has no cached result (all of them with force), after
     making the datasets of texture sequences that have prepare commands and no dataset yet.
 
@@ -187,7 +193,7 @@ def run_sweep(sweep, bin_dir, results_dir, scheduler=None, jobs=None, force=Fals
     try:
         if pending:
             if scheduler:
-                _run_dask(pending, scheduler, on_result)
+                _run_dask(pending, scheduler, on_result, tls=tls, log=log)
             else:
                 _run_local(pending, jobs or os.cpu_count() or 1, on_result)
     except KeyboardInterrupt:
