@@ -147,6 +147,7 @@ TEST_F(AppsTest, EncodeDecodeMd5LinesMatch) {
   params.gridBits = 11;
   params.gomSize = 16;
   params.pmeshMode = PMeshMode::kIntra;
+  params.firstFrame = 1;  // as the apps' FirstFrame: the header records it
   const Grid grid = gridForSequence(input, 11);
   std::vector<std::string> libraryLines;
   const EncodedSequence library =
@@ -261,7 +262,7 @@ TEST_F(AppsTest, FrameCountDefaultsToEveryFrameUntilAFileIsMissing) {
   EXPECT_NE(all.out.find("# input frames: 5 frames, 2 .. 6"), std::string::npos) << all.out;
   EXPECT_NE(all.out.find("in/007.obj, which does not exist"), std::string::npos) << all.out;
   EXPECT_NE(all.out.find("frames              : 5"), std::string::npos) << all.out;
-  EXPECT_EQ(test::linesStartingWith(all.out, "MD5 ").size(), 5u);
+  EXPECT_EQ(test::linesStartingWith(all.out, "MD5 frame=").size(), 5u);
   expectFailure(kEncoder,
                 {"--InputMeshPattern=in/%03d.obj", "--FirstFrame=2", "--FrameCount=6",
                  "--GridBits=11", "-o", "more.3dvo"},
@@ -279,7 +280,7 @@ TEST_F(AppsTest, DecoderFrameRangeStartsAtTheGomHoldingItsFirstFrame) {
   ASSERT_EQ(dec.exitCode, 0) << dec.err;
   const std::vector<std::string> all = test::linesStartingWith(enc.out, "MD5 ");
   EXPECT_EQ(test::linesStartingWith(dec.out, "MD5 "),
-            (std::vector<std::string>{all[3], all[4]}));  // frames 4 and 5
+            (std::vector<std::string>{all[3], all[4], all.back()}));  // frames 4, 5; header
   EXPECT_EQ(test::listFolder(dir_.path() / "out"),
             (std::vector<std::string>{"0004.obj", "0005.obj", "gom_starts.txt"}));
   EXPECT_EQ(readGomStarts(dir_.file("out/gom_starts.txt")), (std::vector<int>{5}));

@@ -222,11 +222,12 @@ std::vector<Unit> texturedSheetUnits(int n, uint16_t gomFrames, int cameras, uin
   std::vector<Unit> units = split(
       encodeSequence(params, gridForSequence(frames, 10), frames, {}, [](int, const IntMesh&) {
       }).stream);
-  EXPECT_EQ(units.size(), 4u);  // SH, GH, I, P
+  EXPECT_EQ(units.size(), 5u);  // SH, GH, I, VERTEX_ORDER, P
   SequenceHeader sh = parse<SequenceHeader>(units[0]);
   sh.sh_frame_count = gomFrames;
   for (int c = 0; c < cameras; ++c) {
     CameraParameters camera;
+    camera.cam_name = "cam" + std::to_string(c);
     camera.cam_width = camera.cam_height = size;
     camera.cam_fx = camera.cam_fy = size;
     camera.cam_cx = camera.cam_cy = size / 2.0;
@@ -239,9 +240,9 @@ std::vector<Unit> texturedSheetUnits(int n, uint16_t gomFrames, int cameras, uin
   gh.gh_frame_count = gomFrames;
   gh.keyframes = {0, static_cast<uint16_t>(gomFrames - 1)};
   units[1].payload = serialise(gh);
-  PMeshUnit pm = parse<PMeshUnit>(units[3]);
+  PMeshUnit pm = parse<PMeshUnit>(units[4]);
   pm.pm_frame = gomFrames - 1u;
-  units[3].payload = serialise(pm);
+  units[4].payload = serialise(pm);
   H264Settings settings;
   settings.width = settings.height = pictureSize;
   settings.preset = "ultrafast";

@@ -189,7 +189,8 @@ std::vector<uint8_t> seekTo(const std::vector<uint8_t>& stream, uint32_t first) 
   while (reader.next(unit)) {
     std::vector<uint8_t> payload(unit.payload, unit.payload + unit.size);
     if (unit.type == static_cast<uint8_t>(UnitType::kSequenceHeader)) {
-      put(payload, 2, u32(unit.payload + 2) - first);  // sh_frame_count
+      // sh_frame_count, after sh_syntax_version (u16) and sh_first_frame (u32).
+      put(payload, 6, u32(unit.payload + 6) - first);
       writer.write(UnitType::kSequenceHeader, payload);
       continue;
     }
