@@ -355,9 +355,9 @@ int main(int argc, char** argv) {
     }
     if (!outputDir.empty() && !decoder.sequenceHeader().cameras.empty())
       outputs->write(outputDir + "/" + kDatasetFileName,
-                    formatDataset(decodedDataset(decoder, outputDir, meshPattern,
-                                                 outputNumber(static_cast<int>(outFirst)), frames),
-                                  outputDir));
+                     formatDataset(decodedDataset(decoder, outputDir, meshPattern,
+                                                  outputNumber(static_cast<int>(outFirst)), frames),
+                                   outputDir));
     // Where each GOM starts (the output's frame numbers; the starts within the output):
     // 3dvo-metrics matches vertices there (GroupStarts), the player of 3dvo-render
     // --Mode=export seeks to these frames.

@@ -71,7 +71,7 @@ struct GomReplay {
   std::string where;  // the GOM header (for messages; none is expected)
   PMeshParams params;
   std::vector<uint16_t> keyframes;
-  IntMesh first;  // the GOM's I mesh, or the previous GOM's last frame (P-mesh GOMs)
+  IntMesh first;           // the GOM's I mesh, or the previous GOM's last frame (P-mesh GOMs)
   bool continued = false;  // no I mesh: frame 0 is a P mesh predicted from `first`
   GomTopology topology;
   std::vector<std::vector<uint8_t>> payloads;  // per P mesh; per frame in intra GOMs

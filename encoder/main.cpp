@@ -16,8 +16,8 @@
 #include "common/progress.h"
 #include "common/sequence.h"
 #include "common/yuv.h"
-#include "encoder/input_frames.h"
 #include "decoder/decoder_version.h"
+#include "encoder/input_frames.h"
 #include "encoder/sequence_encoder.h"
 #include "encoder/texture_encoder.h"
 

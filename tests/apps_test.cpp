@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "common/gom_list.h"
 #include "bitstream/header_hash.h"
+#include "common/gom_list.h"
 #include "common/grid.h"
 #include "common/md5.h"
 #include "common/obj_io.h"

@@ -73,7 +73,8 @@ TEST_P(HorseTest, EncoderAndDecoderAgree) {
                  std::string("--PMeshMode=") + modeName(params.pmeshMode), "-o", "horse.3dvo"});
   ASSERT_EQ(enc.exitCode, 0) << enc.err;
   const std::vector<std::string> encLines = test::linesStartingWith(enc.out, "MD5 frame=");
-  // The apps' frame lines (the header line follows them) carry the input's frame numbers (FirstFrame 1), the library's count from 0.
+  // The apps' frame lines (the header line follows them) carry the input's frame numbers
+  // (FirstFrame 1), the library's count from 0.
   std::vector<std::string> numbered;
   for (size_t k = 0; k < r.decoderFrames.size(); ++k)
     numbered.push_back(geometryHashLine(static_cast<int>(k) + 1, r.decoderFrames[k]));

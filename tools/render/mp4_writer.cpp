@@ -12,8 +12,8 @@ extern "C" {
 #include <filesystem>
 
 #include "common/error.h"
-#include "common/file_io.h"
 #include "common/ffmpeg_log.h"
+#include "common/file_io.h"
 #include "common/yuv.h"
 
 namespace tdvo {
