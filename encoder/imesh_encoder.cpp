@@ -62,7 +62,10 @@ std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& de
   std::vector<uint32_t> queue;
   for (uint32_t j = 0; j < map.size(); ++j)
     if (map[j] != kUnmapped) queue.push_back(j);
-  auto propagate = [&]() {
+  // Step 2 as a flood fill from the queued vertices: a triangle with two mapped corners whose
+  // input edge has its third vertex at the decoded position maps it. `mapped`, when given,
+  // receives the vertices mapped.
+  auto propagate = [&](std::vector<uint32_t>* mapped) {
     while (!queue.empty()) {
       const uint32_t v = queue.back();
       queue.pop_back();
@@ -77,11 +80,12 @@ std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& de
           map[z] = it->second;
           used[map[z]] = true;
           queue.push_back(z);
+          if (mapped) mapped->push_back(z);
         }
       }
     }
   };
-  propagate();
+  propagate(nullptr);
 
   // Step 3: a leftover takes an input vertex at the same position, and step 2 then continues
   // from it. Leftovers next to mapped vertices come first, each taking the candidate whose input
@@ -106,24 +110,7 @@ std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& de
     queue.push_back(j);
     // The flood fill, noting the vertices it maps so that their open neighbours are tried next.
     std::vector<uint32_t> mapped{j};
-    while (!queue.empty()) {
-      const uint32_t v = queue.back();
-      queue.pop_back();
-      for (uint32_t ti : incident[v]) {
-        const Triangle& t = decoded.triangles[ti];
-        for (int k = 0; k < 3; ++k) {
-          const uint32_t x = t[k], y = t[(k + 1) % 3], z = t[(k + 2) % 3];
-          if (map[z] != kUnmapped || map[x] == kUnmapped || map[y] == kUnmapped) continue;
-          auto it = thirdVertex.find(edgeKey(map[x], map[y]));
-          if (it == thirdVertex.end() || input.positions[it->second] != decoded.positions[z])
-            continue;
-          map[z] = it->second;
-          used[map[z]] = true;
-          queue.push_back(z);
-          mapped.push_back(z);
-        }
-      }
-    }
+    propagate(&mapped);
     for (uint32_t v : mapped)
       for (uint32_t ti : incident[v])
         for (uint32_t x : decoded.triangles[ti])
