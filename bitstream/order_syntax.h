@@ -19,6 +19,14 @@
 // there is one): the triangle is output with that corner first. Every decoded triangle is so
 // output once, in the orientation Draco decoded.
 //
+// Degenerate triangles (a repeated vertex: Draco cannot code them), last: vo_num_degenerate
+// (<= the I mesh's triangle count), then for each k = 0 .. D-1, with vo_triangle_order 1,
+// vo_degenerate_gap, its position p_k in the output list (T + D triangles) minus p_(k-1) + 1
+// (p_-1 = -1; p_k <= T + k), and, in either case, vo_degenerate_vertex three times: the first
+// output vertex minus the first vertex of the triangle before it in the output list (0 at
+// position 0), then the second and the third minus the first. With vo_triangle_order 0 the
+// degenerate triangles follow the others (p_k = T + k, not coded).
+//
 // Binarisation of an unsigned value v <= max: the class c (v + 1 in [2^c, 2^(c+1))) in unary,
 // each bin with its own context (the terminating 0 omitted at the largest class max allows),
 // then the c low bits of v + 1, most significant first (context per class for the first, one
@@ -43,6 +51,8 @@ struct MeshOrder {
   uint32_t numVertices = 0;            // output vertices (vo_num_vertices)
   std::vector<uint32_t> vertexOutput;  // coding-order vertex -> output index, onto [0, numVertices)
   std::vector<Triangle> triangles;     // the output triangle list, in output vertex indices
+  std::vector<uint32_t> degenerate;    // ascending positions in `triangles` of the triangles the
+                                       // I mesh does not have (repeated vertex: Draco drops them)
 };
 
 struct OrderContexts {
@@ -54,6 +64,7 @@ struct OrderContexts {
   Set corner[3];
   ContextModel reuse[3][3];
   Set choice[4];
+  Set degenerate[4];  // vo_num_degenerate, vo_degenerate_gap, vo_degenerate_vertex (first, rest)
   static int deltaClass(int64_t delta) {
     const int64_t a = delta < 0 ? -delta : delta;
     return int(a > 1) + int(a > 32);
@@ -159,6 +170,67 @@ class CornerSets {
 
 }  // namespace order_detail
 
+namespace order_detail {
+
+// The degenerate triangles of `order` (docs/bitstream.md "Output order"): `proper` is
+// order.triangles without them (the I mesh's triangles), `degenerate` the ones set aside
+// (writing) or decoded (reading); on return order.triangles is the merged list and
+// order.degenerate their positions in it. With `coded` false their positions are not coded: they
+// follow the others.
+template <class Io>
+void codeDegenerate(Io& io, MeshOrder& order, std::vector<Triangle>& degenerate, OrderContexts& ctx,
+                    bool coded) {
+  const uint32_t numTriangles = static_cast<uint32_t>(order.triangles.size());
+  const uint32_t m = order.numVertices;
+  uint32_t count = static_cast<uint32_t>(degenerate.size());
+  codeUnsigned(io, "vo_num_degenerate", ctx.degenerate[0], count, numTriangles);
+  std::vector<uint32_t>& positions = order.degenerate;
+  if (Io::kReading) {
+    positions.assign(count, 0);
+    degenerate.assign(count, Triangle{0, 0, 0});
+  }
+  if (!coded && !Io::kReading)
+    for (uint32_t k = 0; k < count; ++k)
+      io.require(positions[k] == numTriangles + k,
+                 "degenerate triangles must follow the others in coding order");
+  uint32_t next = 0;  // p_(k-1) + 1
+  for (uint32_t k = 0; k < count; ++k) {
+    if (coded) {
+      uint32_t gap = Io::kReading ? 0 : positions[k] - next;
+      codeUnsigned(io, "vo_degenerate_gap", ctx.degenerate[1], gap, numTriangles + k - next);
+      positions[k] = next + gap;
+    } else {
+      positions[k] = numTriangles + k;
+    }
+    // The triangle before it in the output list: the previous degenerate one or a proper one.
+    const uint32_t p = positions[k];
+    const Triangle before = p == 0                               ? Triangle{0, 0, 0}
+                            : k > 0 && positions[k - 1] == p - 1 ? degenerate[k - 1]
+                                                                 : order.triangles[p - 1 - k];
+    Triangle& t = degenerate[k];
+    for (int c = 0; c < 3; ++c) {
+      const int64_t prediction = c == 0 ? int64_t{before[0]} : int64_t{t[0]};
+      int64_t delta = Io::kReading ? 0 : int64_t{t[c]} - prediction;
+      codeSigned(io, "vo_degenerate_vertex", ctx.degenerate[2 + (c > 0)], delta, m - 1);
+      const int64_t v = prediction + delta;
+      io.require(v >= 0 && v < m, "vo_degenerate_vertex gives output index " + std::to_string(v) +
+                                      " for degenerate triangle " + std::to_string(k) +
+                                      ", out of range [0, " + std::to_string(m - 1) + "]");
+      t[c] = static_cast<uint32_t>(v);
+    }
+    next = p + 1;
+  }
+  if (count == 0) return;
+  std::vector<Triangle> merged;
+  merged.reserve(size_t{numTriangles} + count);
+  uint32_t d = 0, q = 0;
+  for (uint32_t i = 0; i < numTriangles + count; ++i)
+    merged.push_back(d < count && positions[d] == i ? degenerate[d++] : order.triangles[q++]);
+  order.triangles = std::move(merged);
+}
+
+}  // namespace order_detail
+
 // Codes the output order of `decoded` (the I mesh in coding order). order.numVertices is given
 // (vo_num_vertices). Writing, `order` must map the vertices onto [0, numVertices) and hold a
 // triangle list that outputs every decoded triangle once, rotated only; reading fills it. Io is
@@ -173,6 +245,28 @@ void codeMeshOrder(Io& io, const IntMesh& decoded, MeshOrder& order, bool triang
   if (Io::kReading) {
     order.vertexOutput.assign(n, 0);
     order.triangles.assign(numTriangles, Triangle{0, 0, 0});
+  }
+  // Writing, the degenerate triangles are set aside; both sides merge them back at the end.
+  std::vector<Triangle> degenerate;
+  if (!Io::kReading) {
+    const std::vector<uint32_t>& positions = order.degenerate;
+    io.require(positions.size() <= numTriangles &&
+                   order.triangles.size() == numTriangles + positions.size() &&
+                   std::is_sorted(positions.begin(), positions.end()) &&
+                   std::adjacent_find(positions.begin(), positions.end()) == positions.end() &&
+                   (positions.empty() || positions.back() < order.triangles.size()),
+               "degenerate triangle positions and output list disagree");
+    std::vector<Triangle> proper;
+    proper.reserve(numTriangles);
+    size_t next = 0;
+    for (size_t i = 0; i < order.triangles.size(); ++i)
+      if (next < positions.size() && positions[next] == i) {
+        degenerate.push_back(order.triangles[i]);
+        ++next;
+      } else {
+        proper.push_back(order.triangles[i]);
+      }
+    order.triangles = std::move(proper);
   }
   io.require(order.vertexOutput.size() == n && order.triangles.size() == numTriangles,
              "output order and I mesh disagree");
@@ -216,6 +310,7 @@ void codeMeshOrder(Io& io, const IntMesh& decoded, MeshOrder& order, bool triang
         io.require(order.triangles[i] == t, "the output triangles are not in coding order");
       order.triangles[i] = t;
     }
+    codeDegenerate(io, order, degenerate, ctx, false);
     return;
   }
 
@@ -311,6 +406,7 @@ void codeMeshOrder(Io& io, const IntMesh& decoded, MeshOrder& order, bool triang
       remaining.remove(out[d[c]], position[3 * (corner / 3) + c]);
     previous = t;
   }
+  codeDegenerate(io, order, degenerate, ctx, true);
 }
 
 // A frame of the I mesh's connectivity in output order: positions[j] (coding order) goes to

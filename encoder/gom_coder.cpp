@@ -44,7 +44,7 @@ class GomCoder {
       inputs.push_back(grid_.quantise(mesh));
       mesh = Mesh();
       // In a GOM of P meshes the first frame speaks for all (the others must have its triangles).
-      dropDegenerateTriangles(inputs.size() - 1, inputs.back(), !pMeshes || inputs.size() == 1);
+      countDegenerateTriangles(inputs.size() - 1, inputs.back());
     }
     if (pMeshes) {
       checkConstantConnectivity(inputs);
@@ -126,22 +126,14 @@ class GomCoder {
   std::string name(size_t k) const { return frameName_(first_ + k); }
 
   // Triangles with a repeated vertex have no area and no orientation; Draco's Edgebreaker cannot
-  // code them (draco_encoder drops them as well). They are dropped, in every mode, and counted
-  // in a warning; the decoded frame has the input's other triangles (docs/user-guide.md).
-  void dropDegenerateTriangles(size_t k, IntMesh& mesh, bool warn) {
-    const size_t before = mesh.triangles.size();
-    mesh.triangles.erase(std::remove_if(mesh.triangles.begin(), mesh.triangles.end(),
-                                        [](const Triangle& t) {
-                                          return t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
-                                        }),
-                         mesh.triangles.end());
-    const size_t dropped = before - mesh.triangles.size();
-    if (dropped > 0 && warn)
-      out_.warnings.push_back(name(k) + ": " + std::to_string(dropped) + " of " +
-                              std::to_string(before) +
-                              " triangles have a repeated vertex (degenerate); dropped");
-    check(!mesh.triangles.empty(),
-          name(k) + ": every triangle has a repeated vertex: no triangle is left to code");
+  // code them (draco_encoder drops them). They are kept, in every mode: the VERTEX_ORDER unit
+  // carries them (encodeIMesh); codeIMesh counts them in a warning. A mesh of nothing else has
+  // no surface to code.
+  void countDegenerateTriangles(size_t k, const IntMesh& mesh) const {
+    const bool any =
+        std::any_of(mesh.triangles.begin(), mesh.triangles.end(),
+                    [](const Triangle& t) { return t[0] != t[1] && t[1] != t[2] && t[0] != t[2]; });
+    check(any, name(k) + ": every triangle has a repeated vertex: no triangle is left to code");
   }
 
   // P meshes carry positions only: the GOM's frames must share the first frame's connectivity.
@@ -169,6 +161,14 @@ class GomCoder {
                               " vertices in, " + std::to_string(i.decoded.positions.size()) +
                               " coded (Draco drops vertices no triangle uses and splits "
                               "non-manifold ones)");
+    if (i.keptDegenerate + i.droppedDegenerate > 0)
+      out_.warnings.push_back(
+          name(k) + ": " + std::to_string(i.keptDegenerate + i.droppedDegenerate) + " of " +
+          std::to_string(input.triangles.size()) +
+          " triangles have a repeated vertex (degenerate); kept (carried outside Draco)" +
+          (i.droppedDegenerate > 0 ? ", except " + std::to_string(i.droppedDegenerate) +
+                                         " using a vertex no other triangle uses: dropped"
+                                   : std::string()));
     if (i.unmatchedTriangles > 0)
       out_.warnings.push_back(name(k) + ": " + std::to_string(i.unmatchedTriangles) +
                               " decoded triangles have no input twin; P meshes of this GOM "

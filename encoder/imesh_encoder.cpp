@@ -241,7 +241,20 @@ MeshOrder inputOrder(const IntMesh& input, const IntMesh& decoded,
   return order;
 }
 
-IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed, bool triangleOrder) {
+IMeshEncoding encodeIMesh(const IntMesh& input, int gridBits, int dracoSpeed, bool triangleOrder) {
+  // Draco cannot code triangles with a repeated vertex: they go to the VERTEX_ORDER unit, each
+  // with the number of proper triangles before it in the input's list.
+  IntMesh mesh;
+  mesh.positions = input.positions;
+  std::vector<Triangle> degenerate;
+  std::vector<uint32_t> properBefore;
+  for (const Triangle& t : input.triangles)
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+      degenerate.push_back(t);
+      properBefore.push_back(static_cast<uint32_t>(mesh.triangles.size()));
+    } else {
+      mesh.triangles.push_back(t);
+    }
   draco::Mesh dm;
   dm.set_num_points(static_cast<uint32_t>(mesh.positions.size()));
   for (const Triangle& t : mesh.triangles)
@@ -270,6 +283,35 @@ IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed, boo
     for (size_t t = 0; t < out.decoded.triangles.size(); ++t)
       for (int k = 0; k < 3; ++k)
         out.order.triangles[t][k] = out.order.vertexOutput[out.decoded.triangles[t][k]];
+  // The degenerate triangles, in output vertex indices, in place (after the others in coding
+  // order). One whose vertex Draco did not keep (no proper triangle uses it) cannot be output,
+  // nor more of them than proper triangles (the bound of vo_num_degenerate).
+  {
+    std::vector<uint32_t> outputOf(mesh.positions.size(), kUnmapped);
+    for (size_t j = 0; j < out.decoded.positions.size(); ++j)
+      outputOf[out.inputIndex[j]] = out.order.vertexOutput[j];
+    const uint32_t numTriangles = static_cast<uint32_t>(out.order.triangles.size());
+    std::vector<Triangle> merged;
+    uint32_t next = 0;  // proper triangles merged so far
+    for (size_t d = 0; d < degenerate.size(); ++d) {
+      const Triangle& t = degenerate[d];
+      if (outputOf[t[0]] == kUnmapped || outputOf[t[1]] == kUnmapped ||
+          outputOf[t[2]] == kUnmapped || out.order.degenerate.size() >= numTriangles) {
+        ++out.droppedDegenerate;
+        continue;
+      }
+      const uint32_t before =
+          triangleOrder ? std::min(properBefore[d], numTriangles) : numTriangles;
+      for (; next < before; ++next)
+        merged.push_back(out.order.triangles[next]);
+      out.order.degenerate.push_back(static_cast<uint32_t>(merged.size()));
+      merged.push_back({outputOf[t[0]], outputOf[t[1]], outputOf[t[2]]});
+    }
+    for (; next < numTriangles; ++next)
+      merged.push_back(out.order.triangles[next]);
+    out.order.triangles = std::move(merged);
+    out.keptDegenerate = out.order.degenerate.size();
+  }
   CabacWriterIo writer;
   codeMeshOrder(writer, out.decoded, out.order, triangleOrder);
   out.orderPayload = writer.finish();
@@ -279,7 +321,8 @@ IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed, boo
   check.numVertices = out.order.numVertices;
   codeMeshOrder(reader, out.decoded, check, triangleOrder);
   reader.finish();
-  if (check.vertexOutput != out.order.vertexOutput || check.triangles != out.order.triangles)
+  if (check.vertexOutput != out.order.vertexOutput || check.triangles != out.order.triangles ||
+      check.degenerate != out.order.degenerate)
     throw std::logic_error("vertex order payload does not decode to the encoder's order");
   return out;
 }

@@ -31,12 +31,16 @@ struct IMeshEncoding {
   MeshOrder order;                    // the output order (inputOrder below)
   std::vector<uint8_t> orderPayload;  // vo_cabac_payload
   bool triangleOrder = true;          // vo_triangle_order
+  size_t keptDegenerate = 0;          // input triangles with a repeated vertex, in the output
+  size_t droppedDegenerate = 0;       // those that could not be (a vertex Draco dropped)
 };
 
 // Encodes `mesh` (grid integers, coordinates < 2^gridBits) losslessly. `dracoSpeed` is Draco's
 // encoding/decoding speed option (0 = best compression, 10 = fastest). With `triangleOrder`
 // the output order keeps the input's triangle list, else the triangles come out in coding
-// order (vertices in the input's order either way).
+// order (vertices in the input's order either way). Triangles with a repeated vertex, which
+// Draco cannot code, are carried in the order (in place; after the others in coding order),
+// except one using a vertex no other triangle uses (Draco drops that vertex).
 IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed,
                           bool triangleOrder = true);
 
