@@ -351,31 +351,86 @@ TEST(StreamDecoder, NotA3dvoStream) {
             "c.3dvo: not a 3DVO stream (the first four bytes are not \"3DVO\")");
 }
 
-// Triangles with a repeated vertex (real captures have them) are dropped in every mode, with one
-// warning per I mesh that counts them; the rest round-trips as if they had never been there,
-// through the P-mesh paths and their closed-loop check too.
-TEST(SequenceEncoder, DropsDegenerateTrianglesInEveryMode) {
-  const std::vector<Mesh> clean = test::waveSheet(5, 5, 4);
-  std::vector<Mesh> frames = clean;
+// Triangles with a repeated vertex (real captures have them; Draco cannot code them) are kept
+// in every mode, in place: the decoded triangle list is the input's, exactly, through I meshes,
+// P meshes and GOMs that continue the previous GOM (no I mesh). One warning per I mesh counts
+// them. With InputTriangleOrder false they follow the others, in the input's order.
+TEST(SequenceEncoder, KeepsDegenerateTrianglesInEveryMode) {
+  std::vector<Mesh> frames = test::waveSheet(5, 5, 4);
   for (Mesh& m : frames) {
+    m.triangles.insert(m.triangles.begin(), {0, 1, 0});  // position 0
     m.triangles.insert(m.triangles.begin() + 3, {4, 4, 5});
-    m.triangles.push_back({7, 8, 7});
+    m.triangles.insert(m.triangles.begin() + 4, {6, 6, 6});  // two in a row
+    m.triangles.push_back({7, 8, 7});                        // the last one
   }
-  const std::string count = "2 of " + std::to_string(frames[0].triangles.size()) +
-                            " triangles have a repeated vertex (degenerate); dropped";
-  for (PMeshMode mode : {PMeshMode::kIntra, PMeshMode::kD3dmc, PMeshMode::kAfxic}) {
-    SCOPED_TRACE(static_cast<int>(mode));
-    testing::internal::CaptureStderr();
-    const test::RoundTrip r = encodeAndDecode(frames, paramsFor(10, 2, mode));
-    const std::string err = testing::internal::GetCapturedStderr();
-    checkRoundTrip(clean, r);
-    // Intra: every frame is an I mesh; P meshes: one I mesh per GOM of 2 frames.
-    size_t warnings = 0;
-    for (size_t at = err.find(count); at != std::string::npos; at = err.find(count, at + 1))
-      ++warnings;
-    EXPECT_EQ(warnings, mode == PMeshMode::kIntra ? 4u : 2u) << err;
+  const std::string count = "4 of " + std::to_string(frames[0].triangles.size()) +
+                            " triangles have a repeated vertex (degenerate); kept";
+  struct Case {
+    PMeshMode mode;
+    int period;
+    size_t warnings;  // one per I mesh
+  };
+  for (const Case& c :
+       {Case{PMeshMode::kIntra, 1, 4}, Case{PMeshMode::kD3dmc, 1, 2}, Case{PMeshMode::kAfxic, 1, 2},
+        Case{PMeshMode::kD3dmc, 0, 1}, Case{PMeshMode::kAfxic, 0, 1}}) {
+    for (bool inputOrder : {true, false}) {
+      SCOPED_TRACE(std::to_string(static_cast<int>(c.mode)) + " period " +
+                   std::to_string(c.period) + (inputOrder ? " input order" : " coding order"));
+      EncoderParams params = paramsFor(10, 2, c.mode);
+      params.randomAccessPeriod = c.period;
+      params.inputTriangleOrder = inputOrder;
+      testing::internal::CaptureStderr();
+      const RoundTrip r = encodeAndDecode(frames, params);
+      const std::string err = testing::internal::GetCapturedStderr();
+      if (inputOrder) checkRoundTrip(frames, r);  // which also compares the triangle lists
+      ASSERT_EQ(r.decoderFrames.size(), frames.size());
+      for (size_t f = 0; f < frames.size(); ++f) {
+        const std::vector<Triangle>& out = r.decoderFrames[f].triangles;
+        if (inputOrder) {
+          EXPECT_EQ(out, frames[f].triangles) << "frame " << f;
+        } else {
+          EXPECT_EQ(out, r.encoderFrames[f].triangles) << "frame " << f;
+          EXPECT_EQ(canonicalSorted(out), canonicalSorted(frames[f].triangles)) << "frame " << f;
+          ASSERT_EQ(out.size(), frames[f].triangles.size());
+          const std::vector<Triangle> last(out.end() - 4, out.end());
+          EXPECT_EQ(last, (std::vector<Triangle>{{0, 1, 0}, {4, 4, 5}, {6, 6, 6}, {7, 8, 7}}))
+              << "frame " << f;
+        }
+      }
+      size_t warnings = 0;
+      for (size_t at = err.find(count); at != std::string::npos; at = err.find(count, at + 1))
+        ++warnings;
+      EXPECT_EQ(warnings, c.warnings) << err;
+    }
   }
-  // Nothing but degenerate triangles: no surface to code.
+}
+
+// A vertex that only degenerate triangles use is not coded (Draco drops vertices no coded
+// triangle uses): the triangles using it are dropped too, and the warnings say so.
+TEST(SequenceEncoder, DegenerateTriangleOnAnUnusedVertexIsDropped) {
+  std::vector<Mesh> frames = test::waveSheet(5, 5, 1);
+  Mesh& m = frames[0];
+  const uint32_t lone = static_cast<uint32_t>(m.positions.size());
+  m.positions.push_back({0.5, 0.5, 0.5});
+  m.triangles.insert(m.triangles.begin() + 2, {3, 3, 4});
+  m.triangles.insert(m.triangles.begin() + 5, {lone, lone, 1});
+  testing::internal::CaptureStderr();
+  const RoundTrip r = encodeAndDecode(frames, paramsFor(10, 1, PMeshMode::kIntra));
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("2 of " + std::to_string(m.triangles.size()) +
+                     " triangles have a repeated vertex (degenerate); kept (carried outside "
+                     "Draco), except 1 using a vertex no other triangle uses: dropped"),
+            std::string::npos)
+      << err;
+  std::vector<Triangle> expected = m.triangles;
+  expected.erase(expected.begin() + 5);
+  ASSERT_EQ(r.decoderFrames.size(), 1u);
+  EXPECT_EQ(r.decoderFrames[0].triangles, expected);
+  EXPECT_EQ(r.decoderFrames[0].positions.size(), m.positions.size() - 1);
+}
+
+// Nothing but degenerate triangles: no surface to code.
+TEST(SequenceEncoder, OnlyDegenerateTrianglesAreRefused) {
   std::vector<Mesh> none = test::waveSheet(5, 5, 1);
   none[0].triangles = {{1, 1, 2}, {3, 4, 4}};
   try {
