@@ -168,19 +168,14 @@ class CornerSets {
   std::vector<uint32_t> start_, tree_, remaining_;
 };
 
-}  // namespace order_detail
-
-namespace order_detail {
-
-// The degenerate triangles of `order` (docs/bitstream.md "Output order"): `proper` is
-// order.triangles without them (the I mesh's triangles), `degenerate` the ones set aside
+// The degenerate triangles of `order` (docs/bitstream.md "Output order"): order.triangles is
+// the list without them (the I mesh's `numTriangles`), `degenerate` the ones set aside
 // (writing) or decoded (reading); on return order.triangles is the merged list and
 // order.degenerate their positions in it. With `coded` false their positions are not coded: they
 // follow the others.
 template <class Io>
-void codeDegenerate(Io& io, MeshOrder& order, std::vector<Triangle>& degenerate, OrderContexts& ctx,
-                    bool coded) {
-  const uint32_t numTriangles = static_cast<uint32_t>(order.triangles.size());
+void codeDegenerate(Io& io, uint32_t numTriangles, MeshOrder& order,
+                    std::vector<Triangle>& degenerate, OrderContexts& ctx, bool coded) {
   const uint32_t m = order.numVertices;
   uint32_t count = static_cast<uint32_t>(degenerate.size());
   codeUnsigned(io, "vo_num_degenerate", ctx.degenerate[0], count, numTriangles);
@@ -206,7 +201,8 @@ void codeDegenerate(Io& io, MeshOrder& order, std::vector<Triangle>& degenerate,
     const uint32_t p = positions[k];
     const Triangle before = p == 0                               ? Triangle{0, 0, 0}
                             : k > 0 && positions[k - 1] == p - 1 ? degenerate[k - 1]
-                                                                 : order.triangles[p - 1 - k];
+                            : p - 1 - k < order.triangles.size() ? order.triangles[p - 1 - k]
+                                                                 : Triangle{0, 0, 0};
     Triangle& t = degenerate[k];
     for (int c = 0; c < 3; ++c) {
       const int64_t prediction = c == 0 ? int64_t{before[0]} : int64_t{t[0]};
@@ -224,8 +220,10 @@ void codeDegenerate(Io& io, MeshOrder& order, std::vector<Triangle>& degenerate,
   std::vector<Triangle> merged;
   merged.reserve(size_t{numTriangles} + count);
   uint32_t d = 0, q = 0;
-  for (uint32_t i = 0; i < numTriangles + count; ++i)
-    merged.push_back(d < count && positions[d] == i ? degenerate[d++] : order.triangles[q++]);
+  for (uint32_t i = 0; i < numTriangles + count; ++i)  // (the bounds hold unless writing junk)
+    merged.push_back(d < count && positions[d] == i ? degenerate[d++]
+                     : q < order.triangles.size()   ? order.triangles[q++]
+                                                    : Triangle{0, 0, 0});
   order.triangles = std::move(merged);
 }
 
@@ -256,16 +254,15 @@ void codeMeshOrder(Io& io, const IntMesh& decoded, MeshOrder& order, bool triang
                    std::adjacent_find(positions.begin(), positions.end()) == positions.end() &&
                    (positions.empty() || positions.back() < order.triangles.size()),
                "degenerate triangle positions and output list disagree");
+    std::vector<uint8_t> isDegenerate(order.triangles.size(), 0);
+    for (uint32_t p : positions) {
+      if (p < order.triangles.size()) isDegenerate[p] = 1;
+      degenerate.push_back(p < order.triangles.size() ? order.triangles[p] : Triangle{0, 0, 0});
+    }
     std::vector<Triangle> proper;
     proper.reserve(numTriangles);
-    size_t next = 0;
     for (size_t i = 0; i < order.triangles.size(); ++i)
-      if (next < positions.size() && positions[next] == i) {
-        degenerate.push_back(order.triangles[i]);
-        ++next;
-      } else {
-        proper.push_back(order.triangles[i]);
-      }
+      if (!isDegenerate[i]) proper.push_back(order.triangles[i]);
     order.triangles = std::move(proper);
   }
   io.require(order.vertexOutput.size() == n && order.triangles.size() == numTriangles,
@@ -310,7 +307,7 @@ void codeMeshOrder(Io& io, const IntMesh& decoded, MeshOrder& order, bool triang
         io.require(order.triangles[i] == t, "the output triangles are not in coding order");
       order.triangles[i] = t;
     }
-    codeDegenerate(io, order, degenerate, ctx, false);
+    codeDegenerate(io, numTriangles, order, degenerate, ctx, false);
     return;
   }
 
@@ -406,7 +403,7 @@ void codeMeshOrder(Io& io, const IntMesh& decoded, MeshOrder& order, bool triang
       remaining.remove(out[d[c]], position[3 * (corner / 3) + c]);
     previous = t;
   }
-  codeDegenerate(io, order, degenerate, ctx, true);
+  codeDegenerate(io, numTriangles, order, degenerate, ctx, true);
 }
 
 // A frame of the I mesh's connectivity in output order: positions[j] (coding order) goes to

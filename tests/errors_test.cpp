@@ -1000,6 +1000,73 @@ CATALOGUE_TEST(V07) {
   expectUnitsRow("V07", units);
 }
 
+// A writer that codes whatever it is given (the syntax's own writer refuses out-of-range values;
+// the values below binarise as the decoder reads them: same class as the largest allowed).
+struct LaxWriterIo : CabacWriterIo {
+  void require(bool, const char*) const {}
+  void require(bool, const std::string&) const {}
+};
+
+// The base stream's VERTEX_ORDER unit (frame 0: 42 vertices, 80 triangles, input triangle order)
+// with degenerate triangles at `positions` of its output list (`triangles`: the degenerate
+// ones; a position beyond the list makes a {0, 0, 0}).
+std::vector<uint8_t> vertexOrderWithDegenerate(const std::vector<uint32_t>& positions,
+                                               const std::vector<Triangle>& triangles) {
+  const std::vector<Unit> units = baseUnits();
+  const IntMesh decoded = decodeIMesh(dracoPayload(), kGridBits, "base");
+  VertexOrderUnit vo = parse<VertexOrderUnit>(units[3]);
+  MeshOrder order;
+  order.numVertices = vo.vo_num_vertices;
+  CabacReaderIo reader(vo.vo_cabac_payload.data(), vo.vo_cabac_payload.size(), "base");
+  codeMeshOrder(reader, decoded, order, true);
+  EXPECT_EQ(order.numVertices, 42u);
+  EXPECT_EQ(order.triangles.size(), 80u);
+  for (size_t k = 0; k < positions.size() && k < triangles.size(); ++k)
+    order.triangles.insert(order.triangles.begin() + positions[k], triangles[k]);
+  order.degenerate = positions;
+  LaxWriterIo writer;
+  codeMeshOrder(writer, decoded, order, true);
+  vo.vo_cabac_payload = writer.finish();
+  return serialise(vo);
+}
+
+CATALOGUE_TEST(V09) {
+  // 81 degenerate triangles for an I mesh of 80 triangles.
+  std::vector<uint32_t> positions;
+  for (uint32_t p = 80; p <= 160; ++p)
+    positions.push_back(p);
+  std::vector<Unit> units = baseUnits();
+  units[3].payload = vertexOrderWithDegenerate(positions, {});
+  expectUnitsRow("V09", units);
+}
+
+CATALOGUE_TEST(V10) {
+  // One degenerate triangle at position 81 of a list of 81 triangles.
+  std::vector<Unit> units = baseUnits();
+  units[3].payload = vertexOrderWithDegenerate({81}, {});
+  expectUnitsRow("V10", units);
+}
+
+CATALOGUE_TEST(V11) {
+  // A degenerate triangle with output vertex 42 of 42.
+  std::vector<Unit> units = baseUnits();
+  units[3].payload = vertexOrderWithDegenerate({0}, {{41, 42, 41}});
+  expectUnitsRow("V11", units);
+}
+
+// A valid degenerate triangle decodes, in place (the helper above is not the cause of V09-V11).
+TEST(VertexOrder, DegenerateTriangleDecodesInPlace) {
+  std::vector<Unit> units = baseUnits();
+  units[3].payload = vertexOrderWithDegenerate({5}, {{3, 3, 7}});
+  const std::vector<uint8_t> stream = join(units);
+  StreamDecoder decoder(stream.data(), stream.size(), "in.3dvo");
+  std::vector<IntMesh> frames;
+  decoder.decode([&](int, const IntMesh& m) { frames.push_back(m); });
+  ASSERT_FALSE(frames.empty());
+  ASSERT_EQ(frames[0].triangles.size(), 81u);
+  EXPECT_EQ(frames[0].triangles[5], (Triangle{3, 3, 7}));
+}
+
 CATALOGUE_TEST(G15) {
   std::vector<Unit> units = baseUnits();
   units[1].payload[kGhRandomAccess] = 0;
