@@ -111,6 +111,21 @@ DracoMeshCounts checkDracoMeshCounts(const std::vector<uint8_t>& payload,
   return c;
 }
 
+void checkDracoMemory(const DracoMeshCounts& counts, uint64_t bytesRead, uint64_t perByte,
+                      const std::string& context) {
+  if (perByte == 0) return;
+  // counts < 2^32: no overflow. need <= free + perByte x bytesRead, without the product.
+  const uint64_t need =
+      kMeshBytesPerVertex * counts.numVertices + kMeshBytesPerFace * counts.numFaces;
+  if (need <= kMeshMemoryFree || (need - kMeshMemoryFree - 1) / perByte < bytesRead) return;
+  throw Error(context + ": im_draco_payload: " + std::to_string(counts.numVertices) +
+              " vertices and " + std::to_string(counts.numFaces) + " faces need about " +
+              std::to_string(need >> 20) + " MiB to decode, more than " +
+              std::to_string(bytesRead) + " stream bytes allow (" +
+              std::to_string(kMeshMemoryFree >> 20) + " MiB + " + std::to_string(perByte) +
+              " bytes per stream byte; MaxMeshMemoryPerByte)");
+}
+
 namespace {
 
 // Draco's attribute and data type codes (draco/attributes/geometry_attribute.h,

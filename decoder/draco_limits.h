@@ -32,6 +32,22 @@ struct DracoMeshCounts {
   uint32_t numSplitSymbols = 0;  // Edgebreaker only: num_encoded_split_symbols
 };
 
+// The mesh-memory limit (docs/robustness.md, "Memory"): Draco allocates from the vertex and face
+// counts of its header (corner tables, attribute values, the mesh's faces) before it finds out
+// whether the payload holds that many elements, and the decoder's structures of the GOM follow
+// the same counts; but a mesh costs only about a byte per vertex to code. So the counts are
+// checked against the stream bytes read so far, B (through the I mesh's unit), before Draco
+// sees them: the memory they make the decoder take, estimated as kMeshBytesPerVertex x vertices
+// + kMeshBytesPerFace x faces, may be at most kMeshMemoryFree + the limit x B. The estimate is
+// an upper bound of what was measured (Draco 1.5.5, a d3dmc GOM of a 490,000-vertex sheet:
+// 415 bytes per vertex with its two faces; a header declaring 2^25 faces: 24 bytes per face),
+// so the default keeps decoding within 64 MiB + 64 x the stream's size; 0 lifts the limit
+// (3dvo-dec --MaxMeshMemoryPerByte). Meshes of up to about 80,000 vertices always pass.
+constexpr uint64_t kDefaultMaxMeshMemoryPerByte = 48;
+constexpr uint64_t kMeshMemoryFree = uint64_t{40} << 20;  // 40 MiB
+constexpr uint64_t kMeshBytesPerVertex = 192;
+constexpr uint64_t kMeshBytesPerFace = 160;
+
 // Parses the header and connectivity counts of `payload` and checks them. The payload must be a
 // Draco triangle mesh of bitstream version 2.2 (what Draco 1.5 writes) without metadata, coded
 // sequentially or with Edgebreaker, declaring at most kMaxVertices vertices and kMaxTriangles
@@ -40,6 +56,11 @@ struct DracoMeshCounts {
 // `context`, otherwise. Draco checks everything after these fields itself.
 DracoMeshCounts checkDracoMeshCounts(const std::vector<uint8_t>& payload,
                                      const std::string& context);
+
+// The memory-limit check above: throws Error, prefixed by `context`, when `counts` need more than
+// kMeshMemoryFree + perByte x bytesRead (perByte 0: no limit).
+void checkDracoMemory(const DracoMeshCounts& counts, uint64_t bytesRead, uint64_t perByte,
+                      const std::string& context);
 
 // Checks the attribute descriptors at the start of a Draco 2.2 mesh's attribute data (`data`,
 // `size`: what follows the connectivity data; Draco specification: DecodeAttributeData,

@@ -8,11 +8,14 @@
 
 namespace tdvo {
 
-IntMesh decodeIMesh(const std::vector<uint8_t>& payload, int gridBits, const std::string& context) {
+IntMesh decodeIMesh(const std::vector<uint8_t>& payload, int gridBits, const std::string& context,
+                    uint64_t bytesRead, uint64_t memoryPerByte) {
   // Draco allocates from the counts it reads before it checks them against the payload: those
   // counts are checked first (draco_limits.h).
   // Likewise the attribute descriptors, as Draco reaches them (decodeCheckedDracoMesh).
   const DracoMeshCounts counts = checkDracoMeshCounts(payload, context);
+  // And what those counts make Draco allocate, against the stream bytes that pay for it.
+  checkDracoMemory(counts, bytesRead != 0 ? bytesRead : payload.size(), memoryPerByte, context);
   std::unique_ptr<draco::Mesh> dm = decodeCheckedDracoMesh(payload, counts, context);
 
   const uint32_t numPoints = dm->num_points();

@@ -191,6 +191,7 @@ int main(int argc, char** argv) {
     int threads = 1, firstFrame = 0, frameCount = 0;
     int maxVertexFramesPerByte = static_cast<int>(kDefaultMaxVertexFramesPerByte);
     int maxTexturePixelsPerByte = static_cast<int>(kDefaultMaxTexturePixelsPerByte);
+    int maxMeshMemoryPerByte = static_cast<int>(kDefaultMaxMeshMemoryPerByte);
     PngEffort pngEffort = PngEffort::kFast;
     OptionTable table("3dvo-dec", "3dvo-dec -i STREAM.3dvo [-o OUTDIR] [--verify MD5LOG]");
     table.section("Decoder");
@@ -230,6 +231,10 @@ int main(int argc, char** argv) {
               "refuse a stream whose texture units add up to more camera pixels than this per "
               "stream byte read, or whose camera frames need more memory than the stream read "
               "so far allows (2^21 + 2 pixels per byte; docs/robustness.md); 0 = no limit");
+    table.add("MaxMeshMemoryPerByte", maxMeshMemoryPerByte, 0, 1 << 30,
+              "refuse an I mesh whose vertex and face counts need more decoding memory than "
+              "40 MiB + this many bytes per stream byte read (Draco allocates from them; "
+              "docs/robustness.md, \"Memory\"); 0 = no limit");
     table.add("Trace", trace, "print every syntax element read to stderr", "--trace");
     table.add("Threads", threads, 0, 256,
               "cameras whose textures are decoded in parallel (0 = hardware concurrency); the "
@@ -264,6 +269,7 @@ int main(int argc, char** argv) {
     StreamDecoder decoder(units, streamPath, trace ? stderr : nullptr);
     decoder.setMaxVertexFramesPerByte(static_cast<uint64_t>(maxVertexFramesPerByte));
     decoder.setMaxTexturePixelsPerByte(static_cast<uint64_t>(maxTexturePixelsPerByte));
+    decoder.setMaxMeshMemoryPerByte(static_cast<uint64_t>(maxMeshMemoryPerByte));
     if (range) decoder.setFrameRange(table.wasSet("FirstFrame") ? firstFrame : -1, frameCount);
     decoder.setThreads(
         threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency())));

@@ -101,7 +101,8 @@ struct GomReplay {
   const IntMesh& next() {
     const int f = static_cast<int>(produced++);
     if (mode == PMeshMode::kIntra) {
-      current_ = decodeIMesh(payloads[f], gridBits, where);
+      // Its counts passed the mesh-memory limit when the geometry pass read it.
+      current_ = decodeIMesh(payloads[f], gridBits, where, 0, 0);
       payloads[f] = std::vector<uint8_t>();  // each is decoded once
       return current_;
     }
@@ -401,7 +402,9 @@ void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& 
       if (im.im_frame != frame)
         throw Error(where + ": im_frame " + std::to_string(im.im_frame) + " but expected " +
                     std::to_string(frame));
-      IntMesh decoded = decodeIMesh(im.im_draco_payload, sh_.sh_grid_bits, where);
+      // The mesh-memory limit (kDefaultMaxMeshMemoryPerByte), with the bytes through its CRC.
+      IntMesh decoded = decodeIMesh(im.im_draco_payload, sh_.sh_grid_bits, where,
+                                    unit.payloadOffset + unit.size + 4, maxMeshMemoryPerByte_);
       limitDecodingWork(gomWhere, frames, decoded.positions.size());
       if (textured && mode == PMeshMode::kIntra) replay.payloads.push_back(im.im_draco_payload);
       expectUnit(UnitType::kVertexOrder, "after the I mesh of frame " + std::to_string(frame));

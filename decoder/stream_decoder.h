@@ -13,6 +13,7 @@
 #include "common/image.h"
 #include "common/mesh.h"
 #include "common/yuv.h"
+#include "decoder/draco_limits.h"
 
 namespace tdvo {
 
@@ -84,6 +85,9 @@ class StreamDecoder {
   void setMaxVertexFramesPerByte(uint64_t limit) { maxVertexFramesPerByte_ = limit; }
   // Sets the texture-work limit (kDefaultMaxTexturePixelsPerByte above); 0 lifts it.
   void setMaxTexturePixelsPerByte(uint64_t limit) { maxTexturePixelsPerByte_ = limit; }
+  // Sets the mesh-memory limit (kDefaultMaxMeshMemoryPerByte, decoder/draco_limits.h); 0 lifts
+  // it.
+  void setMaxMeshMemoryPerByte(uint64_t limit) { maxMeshMemoryPerByte_ = limit; }
   // Decodes the cameras' textures on this many threads (default 1: on the calling thread).
   // Each camera's pictures are decoded in order; onFrame and onTexture, their order and thread
   // (the calling one), the output and any error are the same for every thread count.
@@ -109,6 +113,7 @@ class StreamDecoder {
   std::vector<uint32_t> gomStarts_;
   uint64_t maxVertexFramesPerByte_ = kDefaultMaxVertexFramesPerByte;
   uint64_t maxTexturePixelsPerByte_ = kDefaultMaxTexturePixelsPerByte;
+  uint64_t maxMeshMemoryPerByte_ = kDefaultMaxMeshMemoryPerByte;
   int64_t rangeFirst_ = -1, rangeCount_ = 0;  // setFrameRange; -1: from the stream's first
   int threads_ = 1;
 };

@@ -275,7 +275,8 @@ IMeshEncoding encodeIMesh(const IntMesh& input, int gridBits, int dracoSpeed, bo
 
   IMeshEncoding out;
   out.payload.assign(buffer.data(), buffer.data() + buffer.size());
-  out.decoded = decodeIMesh(out.payload, gridBits, "encoder's own I mesh");
+  out.decoded = decodeIMesh(out.payload, gridBits, "encoder's own I mesh", 0,
+                            0);  // no mesh-memory limit: the encoder holds the mesh anyway
   out.inputIndex = recoverVertexOrder(mesh, out.decoded, &out.unmatchedTriangles);
   out.order = inputOrder(mesh, out.decoded, out.inputIndex);
   out.triangleOrder = triangleOrder;

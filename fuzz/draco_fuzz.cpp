@@ -1,5 +1,6 @@
 // Fuzz target: the checks made on a Draco payload before Draco sees it (decoder/draco_limits.h):
-// the header and connectivity counts (checkDracoMeshCounts), the attribute descriptors
+// the header and connectivity counts (checkDracoMeshCounts, then the mesh-memory limit
+// checkDracoMemory with the payload's size, as decodeIMesh does), the attribute descriptors
 // (checkDracoAttributeDescriptors, on its own and where Draco's decoder reaches them in
 // decodeCheckedDracoMesh), and Draco's decoding behind them.
 //
@@ -20,6 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::vector<uint8_t> payload(data, data + size);
   try {
     const tdvo::DracoMeshCounts counts = tdvo::checkDracoMeshCounts(payload, "fuzz");
+    tdvo::checkDracoMemory(counts, payload.size(), tdvo::kDefaultMaxMeshMemoryPerByte, "fuzz");
     tdvo::decodeCheckedDracoMesh(payload, counts, "fuzz");
   } catch (const tdvo::Error&) {
   }

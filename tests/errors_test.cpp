@@ -932,6 +932,24 @@ CATALOGUE_TEST(I16) {
   expectUnitsRow("I16", units);
 }
 
+CATALOGUE_TEST(I17) {
+  // The largest counts the I-mesh limits allow (I08, I09), in a stream of under 1 KB: Draco
+  // would allocate about 0.8 GB for them before finding the payload too short (the mesh-memory
+  // limit, docs/robustness.md "Memory"). Lifted, counts of 2^18 vertices and 2^19 faces (also
+  // refused by default) reach Draco, which then fails on the payload (I11), not on the limit.
+  std::vector<Unit> units = baseUnits();
+  units[2].payload = iMeshUnitPayload(0, dracoWithCounts(kMaxVertices, kMaxTriangles, 100));
+  expectUnitsRow("I17", units);
+  units[2].payload = iMeshUnitPayload(0, dracoWithCounts(1u << 18, 1u << 19, 100));
+  expectUnitsRow("I17", units);
+  const CommandResult lifted =
+      test::run(dir_, kBin + "/3dvo-dec", {"-i", "x.3dvo", "--MaxMeshMemoryPerByte=0"});
+  EXPECT_EQ(lifted.exitCode, 1) << lifted.err;
+  EXPECT_EQ(lifted.err.find("MaxMeshMemoryPerByte"), std::string::npos) << lifted.err;
+  EXPECT_NE(lifted.err.find("Draco cannot decode im_draco_payload"), std::string::npos)
+      << lifted.err;
+}
+
 // ---- Vertex order ----
 
 // A VERTEX_ORDER unit for frame 0 (triangle list coded) with `bins` as its CABAC payload, each
