@@ -204,49 +204,9 @@ std::vector<uint8_t> iMeshUnitPayload(uint32_t frame, const std::vector<uint8_t>
   return serialise(im);
 }
 
-std::vector<uint8_t> varint(uint64_t v) {
-  std::vector<uint8_t> out;
-  do {
-    uint8_t b = v & 0x7F;
-    v >>= 7;
-    if (v) b |= 0x80;
-    out.push_back(b);
-  } while (v);
-  return out;
-}
-
-// The base Draco payload (Edgebreaker) with its connectivity counts replaced: 11 header bytes,
-// the traversal type, then num_encoded_vertices, num_faces, num_attribute_data,
-// num_encoded_symbols, num_encoded_split_symbols and the rest.
+// The base Draco payload with its connectivity counts replaced (test_support.h).
 std::vector<uint8_t> dracoWithCounts(uint32_t vertices, uint32_t faces, uint32_t symbols) {
-  const std::vector<uint8_t> p = dracoPayload();
-  size_t pos = 12;
-  auto readVarint = [&]() {
-    uint64_t v = 0;
-    for (int shift = 0;; shift += 7) {
-      const uint8_t b = p.at(pos++);
-      v |= uint64_t{b & 0x7Fu} << shift;
-      if (!(b & 0x80)) return v;
-    }
-  };
-  EXPECT_EQ(p.at(8), 1) << "expected an Edgebreaker payload";
-  readVarint();
-  readVarint();
-  const uint8_t attributeData = p.at(pos++);
-  readVarint();
-  const uint64_t splits = readVarint();
-  std::vector<uint8_t> out(p.begin(), p.begin() + 12);
-  for (uint64_t v : {uint64_t{vertices}, uint64_t{faces}}) {
-    const std::vector<uint8_t> b = varint(v);
-    out.insert(out.end(), b.begin(), b.end());
-  }
-  out.push_back(attributeData);
-  for (uint64_t v : {uint64_t{symbols}, splits}) {
-    const std::vector<uint8_t> b = varint(v);
-    out.insert(out.end(), b.begin(), b.end());
-  }
-  out.insert(out.end(), p.begin() + static_cast<long>(pos), p.end());
-  return out;
+  return test::withDracoCounts(dracoPayload(), vertices, faces, symbols);
 }
 
 // A Draco I-mesh payload with its attribute descriptor patched: the descriptor (num_attributes

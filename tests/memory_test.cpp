@@ -353,42 +353,6 @@ TEST(Memory, DracoComponentsAreRefusedWithinTheBound) {
   EXPECT_NE(outcome.find("255 components"), std::string::npos) << outcome;
 }
 
-// The Draco payload `p` (Edgebreaker) with its connectivity counts replaced: 11 header bytes,
-// the traversal type, then num_encoded_vertices, num_faces, num_attribute_data,
-// num_encoded_symbols, num_encoded_split_symbols and the rest.
-std::vector<uint8_t> withDracoCounts(const std::vector<uint8_t>& p, uint32_t vertices,
-                                     uint32_t faces, uint32_t symbols) {
-  size_t pos = 12;
-  auto readVarint = [&]() {
-    uint64_t v = 0;
-    for (int shift = 0;; shift += 7) {
-      const uint8_t b = p.at(pos++);
-      v |= uint64_t{b & 0x7Fu} << shift;
-      if (!(b & 0x80)) return v;
-    }
-  };
-  auto writeVarint = [](std::vector<uint8_t>& out, uint64_t v) {
-    do {
-      out.push_back(static_cast<uint8_t>((v & 0x7F) | (v > 0x7F ? 0x80 : 0)));
-      v >>= 7;
-    } while (v);
-  };
-  EXPECT_EQ(p.at(8), 1) << "expected an Edgebreaker payload";
-  readVarint();
-  readVarint();
-  const uint8_t attributeData = p.at(pos++);
-  readVarint();
-  const uint64_t splits = readVarint();
-  std::vector<uint8_t> out(p.begin(), p.begin() + 12);
-  writeVarint(out, vertices);
-  writeVarint(out, faces);
-  out.push_back(attributeData);
-  writeVarint(out, symbols);
-  writeVarint(out, splits);
-  out.insert(out.end(), p.begin() + static_cast<std::ptrdiff_t>(pos), p.end());
-  return out;
-}
-
 // The gap left by the connectivity limits (2^24 vertices, 2^25 faces; errors.md I08, I09):
 // Draco allocates from the counts before it finds the payload too short for them, so a 100-vertex
 // I mesh whose header declares the largest allowed counts made it allocate about 0.8 GB from a
@@ -399,7 +363,7 @@ TEST(Memory, DracoCountsAreBoundedByTheStreamRead) {
   std::vector<Unit> units = texturedSheetUnits(10, 2, 0, 16);
   IMeshUnit im = parse<IMeshUnit>(units[2]);
   im.im_draco_payload =
-      withDracoCounts(im.im_draco_payload, kMaxVertices, kMaxTriangles, kMaxTriangles);
+      test::withDracoCounts(im.im_draco_payload, kMaxVertices, kMaxTriangles, kMaxTriangles);
   units[2].payload = serialise(im);
   const std::vector<uint8_t> stream = join(units);
   keep(stream, "draco-counts");

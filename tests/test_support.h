@@ -11,6 +11,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -52,6 +54,43 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+// The Draco payload `p` (Edgebreaker) with its connectivity counts replaced: 11 header bytes,
+// the traversal type, then num_encoded_vertices, num_faces, num_attribute_data,
+// num_encoded_symbols, num_encoded_split_symbols (varints) and the rest, kept.
+inline std::vector<uint8_t> withDracoCounts(const std::vector<uint8_t>& p, uint32_t vertices,
+                                            uint32_t faces, uint32_t symbols) {
+  if (p.size() < 12 || p[8] != 1)
+    throw std::invalid_argument("withDracoCounts: not an Edgebreaker Draco payload");
+  size_t pos = 12;
+  auto readVarint = [&]() {
+    uint64_t v = 0;
+    for (int shift = 0;; shift += 7) {
+      const uint8_t b = p.at(pos++);
+      v |= uint64_t{b & 0x7Fu} << shift;
+      if (!(b & 0x80)) return v;
+    }
+  };
+  auto writeVarint = [](std::vector<uint8_t>& out, uint64_t v) {
+    do {
+      out.push_back(static_cast<uint8_t>((v & 0x7F) | (v > 0x7F ? 0x80 : 0)));
+      v >>= 7;
+    } while (v);
+  };
+  readVarint();
+  readVarint();
+  const uint8_t attributeData = p.at(pos++);
+  readVarint();
+  const uint64_t splits = readVarint();
+  std::vector<uint8_t> out(p.begin(), p.begin() + 12);
+  writeVarint(out, vertices);
+  writeVarint(out, faces);
+  out.push_back(attributeData);
+  writeVarint(out, symbols);
+  writeVarint(out, splits);
+  out.insert(out.end(), p.begin() + static_cast<std::ptrdiff_t>(pos), p.end());
+  return out;
+}
 
 inline void writeText(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
@@ -115,7 +154,6 @@ inline std::vector<std::string> listFolder(const std::filesystem::path& folder) 
 }
 
 // ---- Generated meshes ----
-
 
 // `frames` frames of an icosphere (radius ~`radius`, centred at `centre`) breathing and
 // wobbling over time: every vertex moves differently in every frame.
