@@ -5,12 +5,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 out=demo-output
-rm -rf "$out"
+# A second run replaces the first one's files (--Overwrite), and nothing else.
 mkdir -p "$out"
-build/bin/3dvo-sample -o "$out/input"
+build/bin/3dvo-sample -o "$out/input" --Overwrite
 build/bin/3dvo-enc -c cfg/sample.cfg --InputMeshPattern="$out/input/%04d.obj" \
   --BitstreamFile="$out/sample.3dvo" | tee "$out/encoder.log"
-build/bin/3dvo-dec -i "$out/sample.3dvo" -o "$out/decoded" --verify "$out/encoder.log" \
+build/bin/3dvo-dec -i "$out/sample.3dvo" -o "$out/decoded" --Overwrite --verify "$out/encoder.log" \
   | tee "$out/decoder.log"
 echo
 echo "demo: input frames   $out/input/"
