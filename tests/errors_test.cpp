@@ -35,6 +35,7 @@
 #include "encoder/h264_encoder.h"
 #include "encoder/imesh_encoder.h"
 #include "encoder/sequence_encoder.h"
+#include "tests/stream_units.h"
 #include "tests/test_support.h"
 
 namespace tdvo {
@@ -112,27 +113,9 @@ bool registerRow(const char* id) {
 
 // ---- Streams ----
 
-struct Unit {
-  uint8_t type;
-  std::vector<uint8_t> payload;
-};
-
-std::vector<Unit> split(const std::vector<uint8_t>& stream) {
-  UnitReader reader(stream.data(), stream.size(), "split");
-  std::vector<Unit> units;
-  UnitView u;
-  while (reader.next(u))
-    units.push_back({u.type, std::vector<uint8_t>(u.payload, u.payload + u.size)});
-  return units;
-}
-
-// Joins units into a stream with correct CRCs.
-std::vector<uint8_t> join(const std::vector<Unit>& units) {
-  UnitWriter writer;
-  for (const Unit& u : units)
-    writer.write(static_cast<UnitType>(u.type), u.payload);
-  return writer.bytes();
-}
+using test::join;
+using test::split;
+using test::Unit;
 
 // Offsets of the units in a stream.
 std::vector<size_t> unitOffsets(const std::vector<uint8_t>& stream) {

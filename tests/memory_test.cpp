@@ -31,6 +31,7 @@
 #include "encoder/h264_encoder.h"
 #include "encoder/sequence_encoder.h"
 #include "fuzz/fuzz_support.h"
+#include "tests/stream_units.h"
 #include "tests/test_support.h"
 
 #if defined(__has_feature)
@@ -70,35 +71,16 @@ void keep(const std::vector<uint8_t>& stream, const std::string& name) {
     test::writeBytes(std::string(folder) + "/" + name + ".3dvo", stream);
 }
 
-// Runs `work` in a child process limited to the bound for an input of `inputBytes` bytes, and
-// returns what happened: "ok", "error: <message>" (tdvo::Error), "out of memory"
-// (std::bad_alloc), or how the child ended otherwise.
-std::string runWithinBound(size_t inputBytes, const std::function<void()>& work) {
+// Runs `child` in a forked child process and returns the text it returns there (or how the
+// child ended, when it was killed).
+std::string inChild(const std::function<std::string()>& child) {
   int fds[2];
   if (pipe(fds) != 0) return "pipe failed";
   std::fflush(nullptr);
   const pid_t pid = fork();
   if (pid == 0) {
     close(fds[0]);
-    std::string outcome;
-    const uint64_t limit = addressSpaceNow() + kFixedBytes + kBytesPerStreamByte * inputBytes;
-    rlimit rl;
-    getrlimit(RLIMIT_AS, &rl);
-    rl.rlim_cur = limit;
-    if (setrlimit(RLIMIT_AS, &rl) != 0) {
-      outcome = "setrlimit failed";
-    } else {
-      try {
-        work();
-        outcome = "ok";
-      } catch (const Error& e) {
-        outcome = std::string("error: ") + e.what();
-      } catch (const std::bad_alloc&) {
-        outcome = "out of memory";
-      } catch (const std::exception& e) {
-        outcome = std::string("exception: ") + e.what();
-      }
-    }
+    const std::string outcome = child();
     const ssize_t written = write(fds[1], outcome.data(), outcome.size());
     _exit(written == static_cast<ssize_t>(outcome.size()) ? 0 : 1);
   }
@@ -115,41 +97,48 @@ std::string runWithinBound(size_t inputBytes, const std::function<void()>& work)
   return outcome;
 }
 
-// Decodes `stream` in a child process without a limit and returns its outcome followed by
-// " +N MiB": how far its peak resident memory rose above its resident memory at the start.
-// For cases where a failed allocation inside a library would look like any other rejection
-// (FFmpeg turns ENOMEM into an error code): the rise itself is what the test checks.
+// Runs `work` in a child process limited to the bound for an input of `inputBytes` bytes, and
+// returns what happened: "ok", "error: <message>" (tdvo::Error), "out of memory"
+// (std::bad_alloc), or how the child ended otherwise.
+std::string runWithinBound(size_t inputBytes, const std::function<void()>& work) {
+  return inChild([&]() -> std::string {
+    const uint64_t limit = addressSpaceNow() + kFixedBytes + kBytesPerStreamByte * inputBytes;
+    rlimit rl;
+    getrlimit(RLIMIT_AS, &rl);
+    rl.rlim_cur = limit;
+    if (setrlimit(RLIMIT_AS, &rl) != 0) return "setrlimit failed";
+    try {
+      work();
+      return "ok";
+    } catch (const Error& e) {
+      return std::string("error: ") + e.what();
+    } catch (const std::bad_alloc&) {
+      return "out of memory";
+    } catch (const std::exception& e) {
+      return std::string("exception: ") + e.what();
+    }
+  });
+}
+
+// Decodes `stream` in a child process without a limit and returns its outcome; `rise` is how
+// far its peak resident memory rose above its resident memory at the start. For cases where a
+// failed allocation inside a library would look like any other rejection (FFmpeg turns ENOMEM
+// into an error code): the rise itself is what the test checks.
 std::string decodeMeasured(const std::vector<uint8_t>& stream, uint64_t& rise) {
-  int fds[2];
-  if (pipe(fds) != 0) return "pipe failed";
-  std::fflush(nullptr);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    close(fds[0]);
+  const std::string outcome = inChild([&]() {
     const uint64_t before = statusBytes("VmRSS:");
-    std::string outcome = "ok";
+    std::string result = "ok";
     try {
       StreamDecoder decoder(stream.data(), stream.size(), "x.3dvo");
       decoder.decode([](int, const IntMesh&) {}, [](int, int, const YuvPicture&, const Image&) {});
     } catch (const Error& e) {
-      outcome = std::string("error: ") + e.what();
+      result = std::string("error: ") + e.what();
     }
     const uint64_t peak = statusBytes("VmHWM:");
-    outcome = std::to_string(peak > before ? peak - before : 0) + " " + outcome;
-    const ssize_t written = write(fds[1], outcome.data(), outcome.size());
-    _exit(written == static_cast<ssize_t>(outcome.size()) ? 0 : 1);
-  }
-  close(fds[1]);
-  std::string outcome;
-  char buffer[4096];
-  ssize_t n;
-  while ((n = read(fds[0], buffer, sizeof buffer)) > 0)
-    outcome.append(buffer, static_cast<size_t>(n));
-  close(fds[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  if (WIFSIGNALED(status)) return "killed by signal " + std::to_string(WTERMSIG(status));
+    return std::to_string(peak > before ? peak - before : 0) + " " + result;
+  });
   const size_t space = outcome.find(' ');
+  if (space == std::string::npos || outcome[0] < '0' || outcome[0] > '9') return outcome;
   rise = std::stoull(outcome.substr(0, space));
   return outcome.substr(space + 1);
 }
@@ -172,26 +161,9 @@ std::string decodeWithinBound(const std::vector<uint8_t>& stream,
 #define SKIP_UNDER_ASAN()
 #endif
 
-struct Unit {
-  uint8_t type;
-  std::vector<uint8_t> payload;
-};
-
-std::vector<Unit> split(const std::vector<uint8_t>& stream) {
-  UnitReader reader(stream.data(), stream.size(), "split");
-  std::vector<Unit> units;
-  UnitView u;
-  while (reader.next(u))
-    units.push_back({u.type, std::vector<uint8_t>(u.payload, u.payload + u.size)});
-  return units;
-}
-
-std::vector<uint8_t> join(const std::vector<Unit>& units) {
-  UnitWriter writer;
-  for (const Unit& u : units)
-    writer.write(static_cast<UnitType>(u.type), u.payload);
-  return writer.bytes();
-}
+using test::join;
+using test::split;
+using test::Unit;
 
 template <class T>
 T parse(const Unit& unit) {
