@@ -26,7 +26,8 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.add("GridBits", gridBits, 8, 20,
         "bits per coordinate of the integer grid spanning the sequence's bounding box");
   t.add("GOMSize", gomSize, 1, static_cast<int>(kMaxGomFrames),
-        "frames per group of meshes (GOM); each GOM starts with an I mesh");
+        "frames per group of meshes (GOM); a GOM starts with an I mesh unless it continues "
+        "the previous GOM (RandomAccessPeriod)");
   t.add("GOMListFile", gomListFile,
         "instead of GOMSize: a GOM list file (3dvo-recon's goms.txt): one '<first frame> "
         "<frame count>' line per GOM, frames counted from FirstFrame, tiling the coded frames");
