@@ -1,6 +1,8 @@
 #include "encoder/imesh_encoder.h"
 
+#include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
+#include <draco/compression/mesh/mesh_edgebreaker_encoder.h>
 #include <draco/mesh/mesh.h>
 
 #include <algorithm>
@@ -26,6 +28,91 @@ uint64_t edgeKey(uint32_t a, uint32_t b) {
 
 constexpr uint32_t kUnmapped = UINT32_MAX;
 
+// Directed edge a->b of a triangle of `mesh` -> its third vertex.
+std::unordered_map<uint64_t, uint32_t> thirdVertices(const IntMesh& mesh) {
+  std::unordered_map<uint64_t, uint32_t> third;
+  third.reserve(mesh.triangles.size() * 3);
+  for (const Triangle& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k)
+      third.emplace(edgeKey(t[k], t[(k + 1) % 3]), t[(k + 2) % 3]);
+  return third;
+}
+
+// Decoded triangles that `map` (decoded vertex -> input vertex) does not take to an input
+// triangle.
+size_t countUnmatched(const std::unordered_map<uint64_t, uint32_t>& thirdVertex,
+                      const IntMesh& decoded, const std::vector<uint32_t>& map) {
+  size_t unmatched = 0;
+  for (const Triangle& t : decoded.triangles) {
+    auto it = thirdVertex.find(edgeKey(map[t[0]], map[t[1]]));
+    if (it == thirdVertex.end() || it->second != map[t[2]]) ++unmatched;
+  }
+  return unmatched;
+}
+
+// The Draco mesh of `mesh`, each point its own position value.
+void fillDracoMesh(const IntMesh& mesh, draco::Mesh& dm) {
+  const uint32_t n = static_cast<uint32_t>(mesh.positions.size());
+  dm.set_num_points(n);
+  for (const Triangle& t : mesh.triangles)
+    dm.AddFace({draco::PointIndex(t[0]), draco::PointIndex(t[1]), draco::PointIndex(t[2])});
+  draco::GeometryAttribute attribute;
+  attribute.Init(draco::GeometryAttribute::POSITION, nullptr, 3, draco::DT_INT32, false,
+                 sizeof(int32_t) * 3, 0);
+  const int id = dm.AddAttribute(attribute, true, n);
+  for (uint32_t i = 0; i < n; ++i)
+    dm.attribute(id)->SetAttributeValue(draco::AttributeValueIndex(i), mesh.positions[i].data());
+}
+
+// Draco's Edgebreaker encoder, run directly (draco::Encoder does the same with these options
+// but keeps what follows to itself): the payload, and for each position value in coding order
+// the corner of `dm` it was coded from.
+std::vector<uint8_t> encodeDraco(const draco::Mesh& dm, int dracoSpeed,
+                                 std::vector<draco::CornerIndex>& valueCorner) {
+  draco::EncoderOptions options = draco::EncoderOptions::CreateDefaultOptions();
+  options.SetSpeed(dracoSpeed, dracoSpeed);
+  options.SetGlobalInt("encoding_method", draco::MESH_EDGEBREAKER_ENCODING);
+  draco::MeshEdgebreakerEncoder encoder;
+  encoder.SetMesh(dm);
+  draco::EncoderBuffer buffer;
+  const draco::Status status = encoder.Encode(options, &buffer);
+  if (!status.ok()) throw Error("Draco cannot encode the I mesh: " + status.error_msg_string());
+  const draco::MeshAttributeIndicesEncodingData* data =
+      encoder.GetAttributeEncodingData(dm.GetNamedAttributeId(draco::GeometryAttribute::POSITION));
+  valueCorner =
+      data ? data->encoded_attribute_value_index_to_corner_map : std::vector<draco::CornerIndex>{};
+  return std::vector<uint8_t>(buffer.data(), buffer.data() + buffer.size());
+}
+
+// The exact vertex mapping: decoded vertex j has the position value mapped_index(j) (in coding
+// order), coded from a corner of the input mesh, and so from that corner's input vertex (the
+// copies Draco makes of a non-manifold vertex map back to it). Checked (positions, and every
+// decoded triangle an input triangle); empty if anything disagrees, and the matcher
+// (recoverVertexOrder) then works the mapping out.
+std::vector<uint32_t> exactVertexOrder(const std::vector<uint8_t>& payload,
+                                       const std::vector<draco::CornerIndex>& valueCorner,
+                                       const IntMesh& mesh, const IntMesh& decoded) {
+  draco::DecoderBuffer in;
+  in.Init(reinterpret_cast<const char*>(payload.data()), payload.size());
+  draco::Decoder decoder;
+  auto result = decoder.DecodeMeshFromBuffer(&in);
+  if (!result.ok() || result.value()->num_points() != decoded.positions.size()) return {};
+  const draco::PointAttribute* position =
+      result.value()->GetNamedAttribute(draco::GeometryAttribute::POSITION);
+  if (!position) return {};
+  std::vector<uint32_t> index(decoded.positions.size());
+  for (uint32_t j = 0; j < index.size(); ++j) {
+    const uint32_t value = position->mapped_index(draco::PointIndex(j)).value();
+    if (value >= valueCorner.size() || valueCorner[value].value() / 3 >= mesh.triangles.size())
+      return {};
+    const uint32_t corner = valueCorner[value].value();
+    index[j] = mesh.triangles[corner / 3][corner % 3];
+    if (mesh.positions[index[j]] != decoded.positions[j]) return {};
+  }
+  if (countUnmatched(thirdVertices(mesh), decoded, index) != 0) return {};
+  return index;
+}
+
 }  // namespace
 
 std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& decoded,
@@ -44,11 +131,7 @@ std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& de
   }
 
   // Directed edge a->b of an input triangle -> its third vertex.
-  std::unordered_map<uint64_t, uint32_t> thirdVertex;
-  thirdVertex.reserve(input.triangles.size() * 3);
-  for (const Triangle& t : input.triangles)
-    for (int k = 0; k < 3; ++k)
-      thirdVertex.emplace(edgeKey(t[k], t[(k + 1) % 3]), t[(k + 2) % 3]);
+  const std::unordered_map<uint64_t, uint32_t> thirdVertex = thirdVertices(input);
 
   std::vector<bool> used(input.positions.size(), false);
   for (uint32_t m : map)
@@ -154,13 +237,7 @@ std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& de
     settle(next, best(next, bestScore));
   }
 
-  if (unmatchedTriangles) {
-    *unmatchedTriangles = 0;
-    for (const Triangle& t : decoded.triangles) {
-      auto it = thirdVertex.find(edgeKey(map[t[0]], map[t[1]]));
-      if (it == thirdVertex.end() || it->second != map[t[2]]) ++*unmatchedTriangles;
-    }
-  }
+  if (unmatchedTriangles) *unmatchedTriangles = countUnmatched(thirdVertex, decoded, map);
   return map;
 }
 
@@ -255,29 +332,16 @@ IMeshEncoding encodeIMesh(const IntMesh& input, int gridBits, int dracoSpeed, bo
     } else {
       mesh.triangles.push_back(t);
     }
-  draco::Mesh dm;
-  dm.set_num_points(static_cast<uint32_t>(mesh.positions.size()));
-  for (const Triangle& t : mesh.triangles)
-    dm.AddFace({draco::PointIndex(t[0]), draco::PointIndex(t[1]), draco::PointIndex(t[2])});
-  draco::GeometryAttribute attribute;
-  attribute.Init(draco::GeometryAttribute::POSITION, nullptr, 3, draco::DT_INT32, false,
-                 sizeof(int32_t) * 3, 0);
-  const int id = dm.AddAttribute(attribute, true, static_cast<uint32_t>(mesh.positions.size()));
-  for (uint32_t i = 0; i < mesh.positions.size(); ++i)
-    dm.attribute(id)->SetAttributeValue(draco::AttributeValueIndex(i), mesh.positions[i].data());
-
-  draco::Encoder encoder;
-  encoder.SetSpeedOptions(dracoSpeed, dracoSpeed);
-  encoder.SetEncodingMethod(draco::MESH_EDGEBREAKER_ENCODING);
-  draco::EncoderBuffer buffer;
-  const draco::Status status = encoder.EncodeMeshToBuffer(dm, &buffer);
-  if (!status.ok()) throw Error("Draco cannot encode the I mesh: " + status.error_msg_string());
-
   IMeshEncoding out;
-  out.payload.assign(buffer.data(), buffer.data() + buffer.size());
+  draco::Mesh dm;
+  fillDracoMesh(mesh, dm);
+  std::vector<draco::CornerIndex> valueCorner;
+  out.payload = encodeDraco(dm, dracoSpeed, valueCorner);
   out.decoded = decodeIMesh(out.payload, gridBits, "encoder's own I mesh", 0,
                             0);  // no mesh-memory limit: the encoder holds the mesh anyway
-  out.inputIndex = recoverVertexOrder(mesh, out.decoded, &out.unmatchedTriangles);
+  out.inputIndex = exactVertexOrder(out.payload, valueCorner, mesh, out.decoded);
+  if (out.inputIndex.empty())
+    out.inputIndex = recoverVertexOrder(mesh, out.decoded, &out.unmatchedTriangles);
   out.order = inputOrder(mesh, out.decoded, out.inputIndex);
   out.triangleOrder = triangleOrder;
   if (!triangleOrder)

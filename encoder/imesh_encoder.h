@@ -2,15 +2,21 @@
 //
 // Draco's Edgebreaker coder reorders vertices (and faces). The GOM's vertex order is defined as
 // the order the *decoder* produces, so the encoder decodes its own payload (closed loop) and
-// works out, for every decoded vertex, which input vertex it came from:
+// works out, for every decoded vertex, which input vertex it came from. Draco's Edgebreaker
+// encoder is run directly, so that its record of the input corner each position value was
+// coded from gives that mapping exactly, even where vertices coincide (seams, doubled
+// surfaces); it is checked against the decoded positions and triangles. Should that check ever
+// fail, a matcher takes over (and the encoder warns if it leaves decoded triangles without an
+// input twin):
 //   1. a decoded vertex whose integer position occurs once in the input maps to that vertex;
 //   2. the rest are resolved through connectivity: for a decoded triangle (x, y, z) with x and y
 //      already mapped to input vertices a and b, z maps to the third vertex of the input triangle
 //      that has the directed edge a->b, provided that vertex has z's position;
 //   3. anything still open (identical positions in identical surroundings) takes any unused
-//      input vertex at the same position: such vertices cannot be told apart, so any choice is
-//      consistent for the I mesh. Step 2 resumes from each such choice, so that a whole
-//      component follows it (coincident copies of a surface map copy to copy).
+//      input vertex at the same position: such vertices cannot be told apart by position and
+//      connectivity, so any choice is consistent for the I mesh. Step 2 resumes from each such
+//      choice, so that a whole component follows it (coincident copies of a surface map copy to
+//      copy).
 // The mapping is then used to reorder the GOM's later frames, which are P meshes.
 #pragma once
 
@@ -44,7 +50,8 @@ struct IMeshEncoding {
 IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed,
                           bool triangleOrder = true);
 
-// Step 1-3 above, exposed for tests: maps each vertex of `decoded` to a vertex of `input`.
+// The matcher (steps 1-3 above), exposed for tests: maps each vertex of `decoded` to a vertex of
+// `input`.
 std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& decoded,
                                          size_t* unmatchedTriangles);
 
