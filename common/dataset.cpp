@@ -8,6 +8,7 @@
 
 #include "common/error.h"
 #include "common/file_io.h"
+#include "common/mesh_io.h"
 #include "common/obj_io.h"
 #include "common/sequence.h"
 #include "common/video_reader.h"
@@ -536,7 +537,7 @@ Image CameraFrames::mask(int index) {
 
 Mesh readDatasetMesh(const Dataset& dataset, int frame) {
   check(!dataset.meshes.empty(), "the dataset has no ground-truth meshes");
-  return readObj(dataset.framePath(dataset.meshes, frame));
+  return readMesh(dataset.framePath(dataset.meshes, frame));
 }
 
 }  // namespace tdvo

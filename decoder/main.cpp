@@ -1,4 +1,5 @@
-// 3dvo-dec: decodes a .3dvo stream to OBJ frames and prints per-frame MD5 lines.
+// 3dvo-dec: decodes a .3dvo stream to mesh frames (OBJ, PLY or glTF) and prints per-frame MD5
+// lines.
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -21,10 +22,11 @@
 #include "common/config.h"
 #include "common/dataset.h"
 #include "common/file_io.h"
+#include "common/gltf_io.h"
 #include "common/gom_list.h"
 #include "common/image.h"
 #include "common/md5.h"
-#include "common/obj_io.h"
+#include "common/mesh_io.h"
 #include "common/progress.h"
 #include "common/sequence.h"
 #include "common/yuv.h"
@@ -131,7 +133,7 @@ Image cameraFrame(const YuvPicture& picture, const TextureBox& box, const Image&
 // everything of the input dataset the stream carries (cameras with their names, description,
 // up, frame numbers from `firstNumber`) and each camera's texture box.
 Dataset decodedDataset(const StreamDecoder& decoder, const std::string& folder,
-                       const std::string& meshPattern, int firstNumber, int frames) {
+                       const std::string& meshPattern, bool meshes, int firstNumber, int frames) {
   const SequenceHeader& sh = decoder.sequenceHeader();
   Dataset d;
   d.folder = folder;
@@ -140,7 +142,7 @@ Dataset decodedDataset(const StreamDecoder& decoder, const std::string& folder,
   d.frameCount = frames;
   d.frameRate = sh.sh_frame_rate;
   if (sh.sh_up_present) d.up = Vec3d{sh.sh_up[0], sh.sh_up[1], sh.sh_up[2]};
-  d.meshes = meshPattern;
+  if (meshes) d.meshes = meshPattern;  // MeshFormat none: a dataset without meshes
   const auto& cameras = sh.cameras;
   for (size_t c = 0; c < cameras.size(); ++c) {
     DatasetCamera dc;
@@ -187,6 +189,7 @@ void extractTextures(const std::string& streamPath, const std::string& name, con
 int main(int argc, char** argv) {
   return runApp("3dvo-dec", [&]() {
     std::string extractDir, streamPath, outputDir, meshPattern = "%04d.obj", verifyPath;
+    std::string meshFormatName, animationFile;
     bool trace = false, renumber = false, overwrite = false;
     int threads = 1, firstFrame = 0, frameCount = 0;
     int maxVertexFramesPerByte = static_cast<int>(kDefaultMaxVertexFramesPerByte);
@@ -200,6 +203,15 @@ int main(int argc, char** argv) {
     table.add("OutputMeshPattern", meshPattern,
               "file name of decoded frame n inside OutputDir (printf pattern; n is the input's "
               "frame number, or from 0 with RenumberFrames)");
+    table.add("MeshFormat", meshFormatName,
+              "the decoded frames' files: obj | ply (binary little-endian) | ply-ascii | gltf "
+              "(buffer as a data URI) | glb | none (no per-frame files); not set: from "
+              "OutputMeshPattern's extension (obj unless .ply, .gltf or .glb); set, the default "
+              "OutputMeshPattern gets its extension");
+    table.add("AnimationFile", animationFile,
+              "also write the decoded frames as one animated glTF binary (.glb) of this name "
+              "inside OutputDir (morph targets per run of constant connectivity; "
+              "docs/user-guide.md)");
     table.add("RenumberFrames", renumber,
               "number the output frames from 0 (files, gom_starts.txt, dataset.json) instead "
               "of with the input's frame numbers; the MD5 lines keep the input's numbers");
@@ -242,7 +254,45 @@ int main(int argc, char** argv) {
     table.addVersionLines(decoderVersionLines());
     if (!table.parseCommandLine(argc, argv)) return 0;
     check(!streamPath.empty(), "no stream given (-i STREAM.3dvo; see --help)");
+    // The per-frame mesh format: MeshFormat, else OutputMeshPattern's extension.
+    bool writeMeshes = true;
+    MeshOutputFormat meshFormat = MeshOutputFormat::kObj;
+    if (meshFormatName.empty()) {
+      const MeshFileFormat byName = meshFileFormat(meshPattern);
+      if (byName == MeshFileFormat::kPly) meshFormat = MeshOutputFormat::kPly;
+      if (byName == MeshFileFormat::kGltf)
+        meshFormat = meshPattern.size() >= 4 && meshPattern.substr(meshPattern.size() - 4) == ".glb"
+                         ? MeshOutputFormat::kGlb
+                         : MeshOutputFormat::kGltf;
+    } else {
+      const std::pair<const char*, MeshOutputFormat> kFormats[] = {
+          {"obj", MeshOutputFormat::kObj},
+          {"ply", MeshOutputFormat::kPly},
+          {"ply-ascii", MeshOutputFormat::kPlyAscii},
+          {"gltf", MeshOutputFormat::kGltf},
+          {"glb", MeshOutputFormat::kGlb},
+          {"none", MeshOutputFormat::kObj}};
+      bool known = false;
+      for (const auto& [name, format] : kFormats)
+        if (meshFormatName == name) {
+          known = true;
+          meshFormat = format;
+        }
+      check(known, "MeshFormat: '" + meshFormatName +
+                       "' is not one of obj, ply, ply-ascii, gltf, glb, none");
+      writeMeshes = meshFormatName != "none";
+      if (!table.wasSet("OutputMeshPattern"))
+        meshPattern = std::string("%04d") + meshOutputExtension(meshFormat);
+    }
     checkFramePattern(meshPattern, "OutputMeshPattern");
+    if (!animationFile.empty()) {
+      check(!outputDir.empty(), "AnimationFile needs an OutputDir (-o) to write it into");
+      check(animationFile.size() > 4 && animationFile.substr(animationFile.size() - 4) == ".glb" &&
+                animationFile.find('/') == std::string::npos,
+            "AnimationFile: '" + animationFile +
+                "' must be a file name ending in .glb (it is written inside OutputDir)");
+    }
+    std::optional<GltfAnimationWriter> animation;
     const auto start = std::chrono::steady_clock::now();
 
     std::unique_ptr<Md5Log> expected;
@@ -313,9 +363,16 @@ int main(int argc, char** argv) {
         [&](int frame, const IntMesh& mesh) {
           if (outFirst < 0) outFirst = frame;
           report(geometryHashLine(inputNumber(frame), mesh));
-          if (!outputDir.empty())
-            outputs->write(outputDir + "/" + framePath(meshPattern, outputNumber(frame)),
-                          formatObj(decoder.grid().dequantise(mesh)));
+          if (!outputDir.empty() && (writeMeshes || !animationFile.empty())) {
+            const Mesh decoded = decoder.grid().dequantise(mesh);
+            if (writeMeshes)
+              outputs->write(outputDir + "/" + framePath(meshPattern, outputNumber(frame)),
+                             formatMeshFile(decoded, meshFormat));
+            if (!animationFile.empty()) {
+              if (!animation) animation.emplace(decoder.sequenceHeader().sh_frame_rate);
+              animation->add(decoded);
+            }
+          }
           vertexFrames += mesh.positions.size();
           ++frames;
           if (!progress) {
@@ -361,7 +418,7 @@ int main(int argc, char** argv) {
     }
     if (!outputDir.empty() && !decoder.sequenceHeader().cameras.empty())
       outputs->write(outputDir + "/" + kDatasetFileName,
-                     formatDataset(decodedDataset(decoder, outputDir, meshPattern,
+                     formatDataset(decodedDataset(decoder, outputDir, meshPattern, writeMeshes,
                                                   outputNumber(static_cast<int>(outFirst)), frames),
                                    outputDir));
     // Where each GOM starts (the output's frame numbers; the starts within the output):
@@ -374,6 +431,7 @@ int main(int argc, char** argv) {
           starts.push_back(static_cast<uint32_t>(outputNumber(static_cast<int>(start))));
       outputs->write(outputDir + "/" + kGomStartsFileName, formatGomStarts(starts));
     }
+    if (animation) outputs->write(outputDir + "/" + animationFile, animation->finish());
     if (!extractDir.empty())
       extractTextures(streamPath, streamPath, extractDir, extracted ? *extracted : *outputs);
     progress.reset();  // clears its line before the summary

@@ -4,6 +4,7 @@
 #include <thread>
 
 #include "common/error.h"
+#include "common/mesh_io.h"
 #include "common/sequence.h"
 
 namespace tdvo {
@@ -11,7 +12,9 @@ namespace tdvo {
 void EncoderParams::registerOptions(OptionTable& t) {
   t.section("Input");
   t.add("InputMeshPattern", inputMeshPattern,
-        "input OBJ frames as a printf pattern, e.g. seq/%04d.obj (.obj.gz read through zlib)");
+        "input mesh frames as a printf pattern, e.g. seq/%04d.obj: OBJ, PLY (.ply) or glTF "
+        "(.gltf, .glb) by extension (.obj.gz and .ply.gz read through zlib); or one .gltf/.glb "
+        "without %d whose animation's keyframes are the frames 0 .. N-1");
   t.add("FirstFrame", firstFrame, 0, static_cast<int>(kMaxFirstFrame),
         "frame number of the first input frame (the InputMeshPattern file number; with a "
         "Dataset its frame number, frames.first + index; not set: the dataset's first frame, "
@@ -124,7 +127,8 @@ void EncoderParams::validate() const {
   check(!inputMeshPattern.empty() || !dataset.empty(),
         "InputMeshPattern is not set, nor a Dataset with meshes (see --help)");
   check(!bitstreamFile.empty(), "BitstreamFile is not set (see --help)");
-  if (!inputMeshPattern.empty()) checkFramePattern(inputMeshPattern, "InputMeshPattern");
+  if (!inputMeshPattern.empty() && !isMeshAnimationFile(inputMeshPattern))
+    checkFramePattern(inputMeshPattern, "InputMeshPattern");
   if (!reconMeshPattern.empty()) checkFramePattern(reconMeshPattern, "ReconMeshPattern");
   check(keyframeCount != 1,
         "KeyframeCount 1 is not possible: a GOM's first and last frames are always keyframes "

@@ -4,6 +4,7 @@
 
 #include "bitstream/syntax.h"
 #include "common/error.h"
+#include "common/mesh_io.h"
 #include "common/sequence.h"
 
 namespace tdvo {
@@ -26,7 +27,9 @@ bool inDataset(const Dataset& dataset, int64_t frame) {
 }  // namespace
 
 std::string inputMeshPath(const EncoderParams& params, const Dataset* dataset, int frame) {
-  if (!params.inputMeshPattern.empty()) return framePath(params.inputMeshPattern, frame);
+  if (!params.inputMeshPattern.empty())
+    return isMeshAnimationFile(params.inputMeshPattern) ? params.inputMeshPattern
+                                                        : framePath(params.inputMeshPattern, frame);
   check(dataset != nullptr, "InputMeshPattern is not set, nor a Dataset with meshes");
   check(!dataset->meshes.empty(),
         datasetName(*dataset) + ": the dataset has no meshes; set InputMeshPattern");

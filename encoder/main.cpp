@@ -11,7 +11,9 @@
 #include "common/app.h"
 #include "common/dataset.h"
 #include "common/file_io.h"
+#include "common/gltf_io.h"
 #include "common/md5.h"
+#include "common/mesh_io.h"
 #include "common/obj_io.h"
 #include "common/progress.h"
 #include "common/sequence.h"
@@ -60,6 +62,26 @@ int main(int argc, char** argv) {
         params.frameRate = dataset.frameRate;
       }
     }
+    // One glTF file holding the whole sequence (InputMeshPattern without %d naming a .gltf or
+    // .glb): its animation's keyframes are the frames 0 .. N-1, read from the file held once.
+    std::optional<GltfFile> animation;
+    if (!params.inputMeshPattern.empty() && isMeshAnimationFile(params.inputMeshPattern)) {
+      animation.emplace(params.inputMeshPattern);
+      const int64_t frames = static_cast<int64_t>(animation->frameCount());
+      check(params.firstFrame < frames,
+            params.inputMeshPattern + ": FirstFrame " + std::to_string(params.firstFrame) +
+                " is not a frame of the animation (its frames are 0 .. " +
+                std::to_string(frames - 1) + ")");
+      if (params.frameCount == 0)
+        params.frameCount = static_cast<int>(
+            std::min<int64_t>(frames - params.firstFrame, static_cast<int64_t>(kMaxFrames)));
+      check(int64_t{params.firstFrame} + params.frameCount <= frames,
+            params.inputMeshPattern + ": FirstFrame + FrameCount - 1 = " +
+                std::to_string(int64_t{params.firstFrame} + params.frameCount - 1) +
+                " is past the animation's last frame " + std::to_string(frames - 1));
+      std::printf("# input frames: %d of the %lld keyframes of %s\n", params.frameCount,
+                  static_cast<long long>(frames), params.inputMeshPattern.c_str());
+    }
     // FrameCount not set: every frame from FirstFrame until the first missing file.
     std::string found;
     params.frameCount = resolveFrameCount(params, input, &found);
@@ -84,7 +106,10 @@ int main(int argc, char** argv) {
     source.name = [&params, input](size_t k) {
       return inputMeshPath(params, input, params.firstFrame + static_cast<int>(k));
     };
-    source.read = [&source](size_t k) { return readObj(source.name(k)); };
+    source.read = [&source, &animation, &params](size_t k) {
+      if (animation) return animation->frame(static_cast<size_t>(params.firstFrame) + k);
+      return readMesh(source.name(k));
+    };
     // The input's frame number (FirstFrame + k) names the reconstruction of coded frame k.
     auto reconName = [&params](int k) {
       return framePath(params.reconMeshPattern, params.firstFrame + k);

@@ -17,6 +17,7 @@
 #include "common/error.h"
 #include "common/file_io.h"
 #include "common/gom_list.h"
+#include "common/mesh_io.h"
 #include "common/metrics.h"
 #include "common/obj_io.h"
 #include "common/progress.h"
@@ -200,8 +201,8 @@ int main(int argc, char** argv) {
     {
       Progress progress("comparing frames", frames);
       for (size_t k = 0; k < frames; ++k) {
-        const Mesh reference = readObj(referencePaths[k]);
-        const Mesh test = readObj(testPaths[k]);
+        const Mesh reference = readMesh(referencePaths[k]);
+        const Mesh test = readMesh(testPaths[k]);
         FrameResult& r = results[k];
         r.referenceFrame = referenceFrames[k];
         r.testFrame = testFrames[k];

@@ -10,6 +10,7 @@
 #include "common/error.h"
 #include "common/file_io.h"
 #include "common/image.h"
+#include "common/mesh_io.h"
 #include "common/obj_io.h"
 #include "common/progress.h"
 #include "common/rasteriser.h"
@@ -166,7 +167,7 @@ Content loadContent(const SynthParams& p) {
     checkFramePattern(p.inputMeshPattern, "InputMeshPattern");
     for (int f = 0; f < p.frameCount; ++f) {
       const std::string path = framePath(p.inputMeshPattern, p.firstFrame + f);
-      c.frames.push_back(readObj(path));
+      c.frames.push_back(readMesh(path));
       const Mesh& first = c.frames.front();
       check(c.frames.back().positions.size() == first.positions.size() &&
                 c.frames.back().triangles == first.triangles,

@@ -10,6 +10,7 @@
 #include "common/error.h"
 #include "common/file_io.h"
 #include "common/gom_list.h"
+#include "common/mesh_io.h"
 #include "common/metrics.h"
 #include "common/obj_io.h"
 #include "common/progress.h"
@@ -151,7 +152,7 @@ struct MeshInput {
   std::string pattern;
   int first;
   Mesh read(int index, bool weld) const {
-    Mesh m = readObj(framePath(pattern, first + index));
+    Mesh m = readMesh(framePath(pattern, first + index));
     if (weld) weldVertices(m);
     return m;
   }

@@ -1,0 +1,421 @@
+// Mesh file formats (issue 19, item 6): PLY and glTF reading and writing at library level, and
+// through the apps: OBJ -> 3DVO -> glTF and PLY -> 3DVO -> PLY keep positions (within half a
+// grid step), vertex order and triangles, on generated meshes and on a shared sequence.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/error.h"
+#include "common/gltf_io.h"
+#include "common/mesh_io.h"
+#include "common/obj_io.h"
+#include "common/ply_io.h"
+#include "common/sequence.h"
+#include "common/tiny_gltf_config.h"
+#include "tests/test_support.h"
+
+namespace tdvo {
+namespace {
+
+const std::string kBin = TDVO_BIN_DIR;
+
+// Positions bit for bit and triangles by index.
+void expectSame(const Mesh& a, const Mesh& b) {
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  EXPECT_EQ(std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * 24), 0);
+  EXPECT_EQ(a.triangles, b.triangles);
+}
+
+// Positions within `tolerance` per coordinate, the same order, the same triangles.
+void expectClose(const Mesh& in, const Mesh& out, double tolerance, const std::string& what) {
+  ASSERT_EQ(in.positions.size(), out.positions.size()) << what;
+  double worst = 0;
+  for (size_t i = 0; i < in.positions.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      worst = std::max(worst, std::fabs(in.positions[i][c] - out.positions[i][c]));
+  EXPECT_LE(worst, tolerance) << what;
+  EXPECT_EQ(in.triangles, out.triangles) << what;
+}
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+// ---- PLY ----
+
+TEST(Ply, BinaryAndAsciiRoundTripExactly) {
+  Mesh m = test::wobblingSphere(2, 1)[0];
+  m.triangles.push_back({0, 1, 1});  // a degenerate triangle is kept
+  m.positions[3] = {0.1, -1e-300, 12345.678901234567};
+  expectSame(parsePly(formatPly(m), "b.ply"), m);
+  expectSame(parsePly(formatPly(m, PlyEncoding::kAscii), "a.ply"), m);
+  // Through the file reader, chunk by chunk and gzip-compressed.
+  test::TempDir dir("ply");
+  writePly(dir.file("m.ply"), m);
+  expectSame(readPly(dir.file("m.ply")), m);
+  expectSame(readMesh(dir.file("m.ply")), m);
+}
+
+// Big-endian, float/int/uchar coordinates, skipped properties and elements, polygons, a face
+// element before the vertices.
+TEST(Ply, TypesEndiannessAndSkippedData) {
+  std::string body;
+  auto be32 = [&](uint32_t v) {
+    for (int i = 3; i >= 0; --i)
+      body += static_cast<char>((v >> (8 * i)) & 0xFF);
+  };
+  auto bef = [&](float f) {
+    uint32_t v;
+    std::memcpy(&v, &f, 4);
+    be32(v);
+  };
+  // face first: a quad (fan: 0 1 2, 0 2 3) with a skipped list before and a float after
+  body += static_cast<char>(2);
+  be32(7);
+  be32(8);
+  body += static_cast<char>(4);
+  for (uint32_t i : {0u, 1u, 2u, 3u})
+    be32(i);
+  bef(0.5f);
+  // an element 'edge' (skipped)
+  body += std::string(2, '\x01');
+  // four vertices: float x, skipped uchar, int y, double-less float z
+  const float xs[] = {0, 1, 1, 0};
+  const int32_t ys[] = {0, 0, 1, 1};
+  for (int v = 0; v < 4; ++v) {
+    bef(xs[v]);
+    body += static_cast<char>(200);
+    be32(static_cast<uint32_t>(ys[v]));
+    bef(-2.5f);
+  }
+  const std::string header =
+      "ply\nformat binary_big_endian 1.0\ncomment made by hand\n"
+      "element face 1\nproperty list uchar int flags\nproperty list uchar uint vertex_indices\n"
+      "property float quality\nelement edge 1\nproperty uchar a\nproperty uchar b\n"
+      "element vertex 4\nproperty float x\nproperty uchar red\nproperty int y\n"
+      "property float z\nend_header\n";
+  const Mesh m = parsePly(header + body, "be.ply");
+  ASSERT_EQ(m.positions.size(), 4u);
+  EXPECT_EQ(m.positions[2], (Vec3d{1, 1, -2.5}));
+  EXPECT_EQ(m.triangles, (std::vector<Triangle>{{0, 1, 2}, {0, 2, 3}}));
+  // The same as ascii.
+  const std::string ascii =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty uchar red\n"
+      "property int y\nproperty float z\nelement face 1\nproperty list uchar int "
+      "vertex_indices\nend_header\n0 200 0 -2.5\n1 200 0 -2.5\n\n1 200 1 -2.5\n0 200 1 -2.5\n"
+      "4 0 1 2 3";
+  const Mesh a = parsePly(ascii, "a.ply");
+  EXPECT_EQ(a.positions, m.positions);
+  EXPECT_EQ(a.triangles, m.triangles);
+}
+
+TEST(Ply, MalformedFilesNameTheirPlace) {
+  const Mesh m = test::wobblingSphere(1, 1)[0];
+  const std::string good = formatPly(m);
+  const size_t headerEnd = good.find("end_header\n") + 11;
+  auto err = [](const std::string& data) { return errorOf([&] { parsePly(data, "x.ply"); }); };
+  EXPECT_NE(err(good.substr(0, good.size() - 5)).find("x.ply: byte "), std::string::npos);
+  EXPECT_NE(err(good.substr(0, good.size() - 5)).find("truncated"), std::string::npos);
+  EXPECT_NE(err(good + "xx").find("bytes after the last element"), std::string::npos);
+  EXPECT_NE(err("v 0 0 0\n").find("x.ply:1: not a PLY file"), std::string::npos);
+  EXPECT_NE(err(good.substr(0, headerEnd - 11)).find("no end_header"), std::string::npos);
+  // an index beyond the vertices, at the byte of its face
+  std::string bad = good;
+  bad[bad.size() - 4] = 100;
+  EXPECT_NE(err(bad).find("vertex index 100 out of range (the file has 42 vertices)"),
+            std::string::npos)
+      << err(bad);
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  EXPECT_NE(err(head + "0 0 0\n1 0 0\n0 1\n3 0 1 2\n").find("x.ply:12: "), std::string::npos);
+  EXPECT_NE(err(head + "0 0 0\n1 0 0\n0 1 nan\n3 0 1 2\n").find("x.ply:12: non-finite"),
+            std::string::npos);
+  EXPECT_NE(err(head + "0 0 0\n1 0 0\n0 1 0\n3 0 1 1\n").find("x.ply:13: every face"),
+            std::string::npos);
+  EXPECT_NE(err(head + "0 0 0\n1 0 0\n0 1 0\n2 0 1\n").find("x.ply:13: face needs at least"),
+            std::string::npos);
+  EXPECT_NE(err(head + "0 0 0\n1 0 0\n0 1 0\n3 0 1 -1\n").find("out of range"), std::string::npos);
+  EXPECT_NE(err(head + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n9 9 9\n").find("x.ply:14: text after"),
+            std::string::npos);
+  // A list longer than the limit is refused at its count, before its entries are read.
+  EXPECT_NE(err(head + "0 0 0\n1 0 0\n0 1 0\n256 0 1 2\n").find("out of its type's range"),
+            std::string::npos);
+  std::string wide = head;
+  wide.replace(wide.find("list uchar"), 10, "list uint");
+  EXPECT_NE(err(wide + "0 0 0\n1 0 0\n0 1 0\n70000 0 1 2\n").find("x.ply:13: list of 70000"),
+            std::string::npos);
+  // A header declaring more vertices than the limit.
+  EXPECT_NE(err("ply\nformat ascii 1.0\nelement vertex 99999999999\n").find("x.ply:3: more than"),
+            std::string::npos);
+}
+
+// ---- glTF ----
+
+// A glTF model made with tinygltf's own API and writer (not ours): `frames` frames as a base mesh
+// plus one morph target per further frame, with a STEP weights animation (or none).
+std::string tinygltfMorphFile(const std::vector<Mesh>& frames, bool binary, bool animate) {
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.buffers.resize(1);
+  auto& bytes = model.buffers[0].data;
+  auto view = [&](const void* data, size_t n) {
+    while (bytes.size() % 4)
+      bytes.push_back(0);
+    tinygltf::BufferView bv;
+    bv.buffer = 0;
+    bv.byteOffset = bytes.size();
+    bv.byteLength = n;
+    bytes.insert(bytes.end(), static_cast<const uint8_t*>(data),
+                 static_cast<const uint8_t*>(data) + n);
+    model.bufferViews.push_back(bv);
+    return static_cast<int>(model.bufferViews.size() - 1);
+  };
+  auto accessor = [&](const std::vector<float>& v, int type, size_t count) {
+    tinygltf::Accessor a;
+    a.bufferView = view(v.data(), v.size() * 4);
+    a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    a.type = type;
+    a.count = count;
+    if (type == TINYGLTF_TYPE_VEC3) {
+      a.minValues = {-1e9, -1e9, -1e9};
+      a.maxValues = {1e9, 1e9, 1e9};
+    } else {
+      a.minValues = {v.front()};
+      a.maxValues = {v.back()};
+    }
+    model.accessors.push_back(a);
+    return static_cast<int>(model.accessors.size() - 1);
+  };
+  const Mesh& base = frames[0];
+  const size_t n = base.positions.size();
+  auto floats = [&](const Mesh& m, const Mesh* minus) {
+    std::vector<float> v;
+    for (size_t i = 0; i < n; ++i)
+      for (int c = 0; c < 3; ++c)
+        v.push_back(static_cast<float>(m.positions[i][c] - (minus ? minus->positions[i][c] : 0)));
+    return v;
+  };
+  tinygltf::Primitive prim;
+  prim.mode = TINYGLTF_MODE_TRIANGLES;
+  prim.attributes["POSITION"] = accessor(floats(base, nullptr), TINYGLTF_TYPE_VEC3, n);
+  std::vector<uint16_t> indices;
+  for (const Triangle& t : base.triangles)
+    for (uint32_t v : t)
+      indices.push_back(static_cast<uint16_t>(v));
+  tinygltf::Accessor ia;
+  ia.bufferView = view(indices.data(), indices.size() * 2);
+  ia.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  ia.type = TINYGLTF_TYPE_SCALAR;
+  ia.count = indices.size();
+  model.accessors.push_back(ia);
+  prim.indices = static_cast<int>(model.accessors.size() - 1);
+  for (size_t f = 1; f < frames.size(); ++f)
+    prim.targets.push_back(
+        {{"POSITION", accessor(floats(frames[f], &base), TINYGLTF_TYPE_VEC3, n)}});
+  tinygltf::Mesh mesh;
+  mesh.primitives.push_back(prim);
+  mesh.weights.assign(frames.size() - 1, 0.0);
+  model.meshes.push_back(mesh);
+  tinygltf::Node node;
+  node.mesh = 0;
+  model.nodes.push_back(node);
+  tinygltf::Scene scene;
+  scene.nodes.push_back(0);
+  model.scenes.push_back(scene);
+  if (animate) {
+    const size_t t = frames.size() - 1;
+    std::vector<float> times, weights(frames.size() * t, 0.0f);
+    for (size_t f = 0; f < frames.size(); ++f) {
+      times.push_back(static_cast<float>(f) / 25.0f);
+      if (f > 0) weights[f * t + f - 1] = 1.0f;
+    }
+    tinygltf::AnimationSampler s;
+    s.input = accessor(times, TINYGLTF_TYPE_SCALAR, times.size());
+    s.output = accessor(weights, TINYGLTF_TYPE_SCALAR, weights.size());
+    s.interpolation = "STEP";
+    tinygltf::AnimationChannel c;
+    c.sampler = 0;
+    c.target_node = 0;
+    c.target_path = "weights";
+    tinygltf::Animation anim;
+    anim.samplers.push_back(s);
+    anim.channels.push_back(c);
+    model.animations.push_back(anim);
+  }
+  tinygltf::TinyGLTF writer;
+  std::ostringstream out;
+  EXPECT_TRUE(writer.WriteGltfSceneToStream(&model, out, false, binary));
+  return out.str();
+}
+
+// A glTF from tinygltf's writer (made here from a known mesh) reads back with its positions,
+// order and triangles; .gltf (data-URI buffer) and .glb alike.
+TEST(Gltf, ReadsAFileMadeByTinygltf) {
+  const Mesh m = test::wobblingSphere(2, 1)[0];
+  for (bool binary : {false, true}) {
+    test::TempDir dir("gltf");
+    const std::string path = dir.file(binary ? "m.glb" : "m.gltf");
+    test::writeText(path, tinygltfMorphFile({m}, binary, false));
+    const Mesh back = readMesh(path);
+    expectClose(m, back, 1e-6, path);
+    for (size_t i = 0; i < m.positions.size(); ++i)
+      for (int c = 0; c < 3; ++c)
+        ASSERT_EQ(back.positions[i][c], static_cast<double>(static_cast<float>(m.positions[i][c])));
+  }
+}
+
+// One .glb whose animation is morph targets (a target per frame, STEP weights) is a frame
+// sequence.
+TEST(Gltf, MorphTargetAnimationIsReadAsFrames) {
+  const std::vector<Mesh> frames = test::wobblingSphere(1, 6);
+  const std::string glb = tinygltfMorphFile(frames, true, true);
+  const GltfFile file(std::vector<uint8_t>(glb.begin(), glb.end()), "anim.glb");
+  ASSERT_EQ(file.frameCount(), 6u);
+  for (size_t f = 0; f < 6; ++f) {
+    EXPECT_FLOAT_EQ(static_cast<float>(file.frameTime(f)), static_cast<float>(f) / 25.0f);
+    expectClose(frames[f], file.frame(f), 1e-5, "frame " + std::to_string(f));
+  }
+  // Without the animation it is one frame: the base.
+  const std::string still = tinygltfMorphFile(frames, false, false);
+  const GltfFile one(std::vector<uint8_t>(still.begin(), still.end()), "still.gltf");
+  ASSERT_EQ(one.frameCount(), 1u);
+  expectClose(frames[0], one.frame(0), 1e-6, "still");
+}
+
+// Our writers: per-frame .gltf/.glb, and the animated .glb (runs of constant connectivity)
+// read back as the same frames.
+TEST(Gltf, WrittenFilesReadBack) {
+  const Mesh m = test::wobblingSphere(2, 1)[0];
+  for (GltfContainer c : {GltfContainer::kGltf, GltfContainer::kGlb}) {
+    const std::string data = formatGltf(m, c);
+    expectClose(m, GltfFile(std::vector<uint8_t>(data.begin(), data.end()), "w").frame(0), 1e-6,
+                "per-frame");
+  }
+  // 5 frames of a sphere, then 3 of a sheet (another connectivity), then 2 of the sphere.
+  std::vector<Mesh> frames = test::wobblingSphere(1, 5);
+  for (const Mesh& s : test::waveSheet(4, 3, 3))
+    frames.push_back(s);
+  for (const Mesh& s : test::wobblingSphere(1, 2))
+    frames.push_back(s);
+  GltfAnimationWriter writer(30.0);
+  for (const Mesh& f : frames)
+    writer.add(f);
+  const std::string glb = writer.finish();
+  const GltfFile file(std::vector<uint8_t>(glb.begin(), glb.end()), "anim.glb");
+  ASSERT_EQ(file.frameCount(), frames.size());
+  for (size_t f = 0; f < frames.size(); ++f)
+    expectClose(frames[f], file.frame(f), 1e-5, "frame " + std::to_string(f));
+}
+
+TEST(Gltf, LimitsAndMalformedFiles) {
+  auto err = [](const std::string& data) {
+    return errorOf([&] { GltfFile(std::vector<uint8_t>(data.begin(), data.end()), "x.gltf"); });
+  };
+  EXPECT_NE(err("{").find("x.gltf: JSON byte"), std::string::npos) << err("{");
+  std::string deep(100, '[');
+  EXPECT_NE(err(deep).find("nested more than 64"), std::string::npos);
+  std::string many = "{\"asset\":{\"version\":\"2.0\"},\"extras\":[";
+  for (size_t i = 0; i < kMaxGltfJsonValues; ++i)
+    many += "0,";
+  many += "0]}";
+  EXPECT_NE(err(many).find("more than 262144 JSON values"), std::string::npos);
+  EXPECT_NE(err("{\"asset\":{}}").find("x.gltf: glTF: "), std::string::npos);
+  // An external buffer is refused when reading from memory, and a missing one from a file.
+  EXPECT_NE(err("{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"uri\":\"b.bin\","
+                "\"byteLength\":4}]}")
+                .find("x.gltf: glTF: "),
+            std::string::npos);
+  // Two buffers naming one external file: each buffer file is read once.
+  test::TempDir dir("gltf-limits");
+  test::writeText(dir.file("b.bin"), "abcd");
+  test::writeText(dir.file("two.gltf"),
+                  "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"uri\":\"b.bin\",\"byteLength\":"
+                  "4},{\"uri\":\"./b.bin\",\"byteLength\":4}]}");
+  EXPECT_NE(errorOf([&] { GltfFile file(dir.file("two.gltf")); }).find("named by two buffers"),
+            std::string::npos);
+  // Accessors sharing one bufferView cannot make a frame larger than the buffers hold.
+  const Mesh m = test::wobblingSphere(1, 1)[0];
+  std::string gltf = formatGltf(m, GltfContainer::kGltf);
+  const size_t meshes = gltf.find("\"meshes\":[");
+  ASSERT_NE(meshes, std::string::npos);
+  const size_t end = gltf.find("]}]", meshes);
+  const std::string one = gltf.substr(meshes + 10, end + 2 - meshes - 10);  // {"primitives":[..]}
+  std::string nodes = "\"nodes\":[";
+  std::string list;
+  for (int i = 0; i < 40; ++i) {
+    list += (i ? "," : "") + one;
+    nodes += std::string(i ? "," : "") + "{\"mesh\":" + std::to_string(i) + "}";
+  }
+  gltf.replace(meshes + 10, end + 2 - meshes - 10, list);
+  const size_t n = gltf.find("\"nodes\":[");
+  gltf.replace(n, gltf.find(']', n) + 1 - n, nodes + "]");
+  EXPECT_NE(errorOf([&] {
+              GltfFile(std::vector<uint8_t>(gltf.begin(), gltf.end()), "x.gltf").frame(0);
+            }).find("more than its buffers'"),
+            std::string::npos);
+}
+
+// ---- Through the apps ----
+
+double extentOf(const std::vector<Mesh>& frames) {
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (const Mesh& m : frames)
+    for (const Vec3d& p : m.positions)
+      for (int c = 0; c < 3; ++c) {
+        lo[c] = std::min(lo[c], p[c]);
+        hi[c] = std::max(hi[c], p[c]);
+      }
+  return std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+}
+
+// Encodes `frames` written in `inFormat` and decodes them with --MeshFormat=`outFormat`; checks
+// every decoded frame against the input.
+void roundTrip(const std::vector<Mesh>& frames, const std::string& inExt,
+               const std::string& outFormat, const std::string& outExt, int bits = 16) {
+  test::TempDir dir("formats-roundtrip");
+  std::filesystem::create_directories(dir.path() / "in");
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const std::string path = dir.file("in/" + framePath("%03d", static_cast<int>(f)) + inExt);
+    if (inExt == ".obj") writeObj(path, frames[f]);
+    if (inExt == ".ply") writePly(path, frames[f]);
+    if (inExt == ".glb") writeGltf(path, frames[f], GltfContainer::kGlb);
+  }
+  const test::CommandResult enc = test::run(
+      dir, kBin + "/3dvo-enc",
+      {"--InputMeshPattern=in/%03d" + inExt, "--FrameCount=" + std::to_string(frames.size()),
+       "--GridBits=" + std::to_string(bits), "--GOMSize=4", "-o", "x.3dvo"});
+  ASSERT_EQ(enc.exitCode, 0) << enc.err;
+  const test::CommandResult dec = test::run(
+      dir, kBin + "/3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--MeshFormat=" + outFormat});
+  ASSERT_EQ(dec.exitCode, 0) << dec.err;
+  // Half a grid step: the grid spans the extent with 2^bits - 1 steps at most.
+  const double tolerance = 0.5 * extentOf(frames) / ((1 << bits) - 1) * 1.0001 + 1e-6;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const std::string path = dir.file("out/" + framePath("%04d", static_cast<int>(f)) + outExt);
+    expectClose(frames[f], readMesh(path), tolerance, path);
+  }
+}
+
+TEST(FormatsRoundTrip, ObjToGltfAndPlyToPly) {
+  std::vector<Mesh> frames = test::wobblingSphere(2, 6, 1.0, {3, -2, 1});
+  roundTrip(frames, ".obj", "gltf", ".gltf");
+  roundTrip(frames, ".obj", "glb", ".glb");
+  roundTrip(frames, ".ply", "ply", ".ply");
+  roundTrip(frames, ".ply", "ply-ascii", ".ply");
+  roundTrip(frames, ".glb", "obj", ".obj");
+}
+
+}  // namespace
+}  // namespace tdvo
