@@ -419,3 +419,119 @@ TEST(FormatsRoundTrip, ObjToGltfAndPlyToPly) {
 
 }  // namespace
 }  // namespace tdvo
+
+namespace tdvo {
+namespace {
+
+// The "MD5 ..." lines of an app's stdout.
+std::vector<std::string> md5Lines(const std::string& out) {
+  std::vector<std::string> lines;
+  for (const std::string& l : test::lines(out))
+    if (l.rfind("MD5 ", 0) == 0) lines.push_back(l);
+  return lines;
+}
+
+// A few frames of horse-gallop (shared data): OBJ -> 3DVO -> glTF and, through PLY input,
+// PLY -> 3DVO -> PLY.
+TEST(FormatsRoundTrip, SharedSequenceHorseGallop) {
+  const std::string pattern =
+      std::string(TDVO_SHARED_DATA_DIR) + "/meshseq/horse-gallop/%04d.obj.gz";
+  if (!std::filesystem::exists(framePath(pattern, 1)))
+    GTEST_SKIP() << "horse-gallop data not found (" << pattern
+                 << "); the generated-mesh round trips above still ran";
+  std::vector<Mesh> frames;
+  for (int f = 1; f <= 4; ++f)
+    frames.push_back(readObj(framePath(pattern, f)));
+  roundTrip(frames, ".obj", "glb", ".glb", 14);
+  roundTrip(frames, ".ply", "ply", ".ply", 14);
+}
+
+// The per-frame MD5 lines hash the decoded integer geometry, not the files: every MeshFormat
+// prints the same lines. --AnimationFile's .glb is read back (GltfFile) as the decoded frames,
+// and as encoder input (InputMeshPattern without %d) it codes to the same MD5 lines.
+TEST(FormatsApps, Md5LinesAndAnimationFile) {
+  test::TempDir dir("formats-apps");
+  std::filesystem::create_directories(dir.path() / "in");
+  // Connectivity changes at frame 5 (intra GOMs of 5): two runs in the animation.
+  std::vector<Mesh> frames = test::wobblingSphere(2, 5);
+  for (const Mesh& m : test::waveSheet(6, 5, 4))
+    frames.push_back(m);
+  for (size_t f = 0; f < frames.size(); ++f)
+    writeObj(dir.file("in/" + framePath("%03d.obj", static_cast<int>(f))), frames[f]);
+  const test::CommandResult enc =
+      test::run(dir, kBin + "/3dvo-enc",
+                {"--InputMeshPattern=in/%03d.obj", "--FrameCount=9", "--GridBits=12", "--GOMSize=5",
+                 "--FrameRate=30", "-o", "x.3dvo"});
+  ASSERT_EQ(enc.exitCode, 0) << enc.err;
+  std::vector<std::string> reference;
+  for (const char* format : {"obj", "ply", "ply-ascii", "gltf", "glb", "none"}) {
+    const test::CommandResult dec =
+        test::run(dir, kBin + "/3dvo-dec",
+                  {"-i", "x.3dvo", "-o", "out", "--Overwrite",
+                   std::string("--MeshFormat=") + format, "--AnimationFile=all.glb"});
+    ASSERT_EQ(dec.exitCode, 0) << format << ": " << dec.err;
+    if (reference.empty()) reference = md5Lines(dec.out);
+    EXPECT_EQ(md5Lines(dec.out), reference) << format;
+    EXPECT_EQ(md5Lines(dec.out), md5Lines(enc.out)) << format;
+    const bool none = std::string(format) == "none";
+    EXPECT_EQ(std::filesystem::exists(dir.file("out/0000.obj")), std::string(format) == "obj");
+    if (!none) {
+      const std::string ext =
+          meshOutputExtension(std::string(format) == "obj"    ? MeshOutputFormat::kObj
+                              : std::string(format) == "gltf" ? MeshOutputFormat::kGltf
+                              : std::string(format) == "glb"  ? MeshOutputFormat::kGlb
+                                                              : MeshOutputFormat::kPly);
+      EXPECT_TRUE(std::filesystem::exists(dir.file("out/0008" + ext))) << format;
+    }
+  }
+  // The animation holds the decoded frames (as float).
+  const GltfFile animation(dir.file("out/all.glb"));
+  ASSERT_EQ(animation.frameCount(), frames.size());
+  test::run(dir, kBin + "/3dvo-dec", {"-i", "x.3dvo", "-o", "objs"});
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const Mesh decoded = readObj(dir.file("objs/" + framePath("%04d.obj", static_cast<int>(f))));
+    expectClose(decoded, animation.frame(f), 1e-6, "animation frame " + std::to_string(f));
+    EXPECT_NEAR(animation.frameTime(f), f / 30.0, 1e-6);
+  }
+  // The animation as encoder input: the same decoded geometry, so the same MD5 lines.
+  const test::CommandResult again = test::run(dir, kBin + "/3dvo-enc",
+                                              {"--InputMeshPattern=out/all.glb", "--GridBits=12",
+                                               "--GOMSize=5", "--FrameRate=30", "-o", "y.3dvo"});
+  ASSERT_EQ(again.exitCode, 0) << again.err;
+  EXPECT_NE(again.out.find("# input frames: 9 of the 9 keyframes of out/all.glb"),
+            std::string::npos)
+      << again.out;
+  // Decoded again: the first decode's frames, within half a step of the new grid, in order.
+  const test::CommandResult redec =
+      test::run(dir, kBin + "/3dvo-dec", {"-i", "y.3dvo", "-o", "again"});
+  ASSERT_EQ(redec.exitCode, 0) << redec.err;
+  std::vector<Mesh> decoded;
+  for (size_t f = 0; f < frames.size(); ++f)
+    decoded.push_back(readObj(dir.file("objs/" + framePath("%04d.obj", static_cast<int>(f)))));
+  const double tolerance = 0.5 * extentOf(decoded) / ((1 << 12) - 1) * 1.0001 + 1e-6;
+  for (size_t f = 0; f < frames.size(); ++f)
+    expectClose(decoded[f],
+                readObj(dir.file("again/" + framePath("%04d.obj", static_cast<int>(f)))), tolerance,
+                "re-encoded frame " + std::to_string(f));
+}
+
+// A morph-target .glb made by tinygltf is encoder input: FirstFrame and FrameCount select
+// keyframes, and the coded frames are the file's frames.
+TEST(FormatsApps, MorphTargetGlbAsEncoderInput) {
+  test::TempDir dir("formats-morph");
+  const std::vector<Mesh> frames = test::wobblingSphere(2, 7);
+  test::writeText(dir.file("seq.glb"), tinygltfMorphFile(frames, true, true));
+  const test::CommandResult enc =
+      test::run(dir, kBin + "/3dvo-enc",
+                {"--InputMeshPattern=seq.glb", "--FirstFrame=2", "--GridBits=14",
+                 "--ReconMeshPattern=r%04d.obj", "-o", "x.3dvo"});
+  ASSERT_EQ(enc.exitCode, 0) << enc.err;
+  EXPECT_NE(enc.out.find("# input frames: 5 of the 7 keyframes"), std::string::npos) << enc.out;
+  const double tolerance = 0.5 * extentOf(frames) / ((1 << 14) - 1) * 1.0001 + 1e-5;
+  for (int f = 2; f < 7; ++f)
+    expectClose(frames[f], readObj(dir.file(framePath("r%04d.obj", f))), tolerance,
+                "frame " + std::to_string(f));
+}
+
+}  // namespace
+}  // namespace tdvo
