@@ -15,6 +15,7 @@
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -28,8 +29,10 @@
 #include "bitstream/units.h"
 #include "common/cabac.h"
 #include "common/error.h"
+#include "common/gltf_io.h"
 #include "common/image.h"
 #include "common/obj_io.h"
+#include "common/ply_io.h"
 #include "decoder/imesh_decoder.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/h264_encoder.h"
@@ -1344,6 +1347,293 @@ CATALOGUE_TEST(O16) {
 
 CATALOGUE_TEST(O17) {
   expectObjRow("O17", "v 0 0 0\nv 5e-324 0 0\nv 0 5e-324 0\nf 1 2 3\n");
+}
+
+// ---- 3dvo-dec mesh output options ----
+
+CATALOGUE_TEST(D13) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  expectRow("D13", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--MeshFormat=stl"});
+}
+
+CATALOGUE_TEST(D14) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  expectRow("D14", "3dvo-dec", {"-i", "x.3dvo", "--AnimationFile=anim.glb"});
+}
+
+CATALOGUE_TEST(D15) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  for (const char* name : {"anim.gltf", "sub/anim.glb"})
+    expectRow("D15", "3dvo-dec",
+              {"-i", "x.3dvo", "-o", "out", std::string("--AnimationFile=") + name});
+}
+
+// ---- PLY and glTF input (3dvo-enc) ----
+
+// Frame 0 of the usual sphere, as a file `name` in in/, and the encoder's arguments for it.
+std::vector<std::string> meshInput(const TempDir& dir, const std::string& name,
+                                   const std::string& data) {
+  std::filesystem::create_directories(dir.path() / "in");
+  test::writeText(dir.file("in/" + name), data);
+  const std::string ext = name.substr(name.find('.'));
+  return {"--InputMeshPattern=in/%03d" + ext, "--FrameCount=1", "--GridBits=10", "-o",
+          "out/x.3dvo"};
+}
+
+const Mesh& errorSphere() {
+  static const Mesh m = test::wobblingSphere(1, 1)[0];
+  return m;
+}
+
+const std::string kPlyHead =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+    "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+
+CATALOGUE_TEST(Y01) {
+  expectRow("Y01", "3dvo-enc", meshInput(dir_, "000.ply", formatObj(errorSphere())));
+}
+
+CATALOGUE_TEST(Y02) {
+  expectRow("Y02", "3dvo-enc",
+            meshInput(dir_, "000.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n"));
+}
+
+CATALOGUE_TEST(Y03) {
+  expectRow("Y03", "3dvo-enc",
+            meshInput(dir_, "000.ply", "ply\nformat ascii 1.0\nelement vertex 3\n"));
+}
+
+CATALOGUE_TEST(Y04) {
+  std::string head = kPlyHead;
+  head.erase(head.find("property float z\n"), 17);
+  expectRow("Y04", "3dvo-enc", meshInput(dir_, "000.ply", head + "0 0\n1 0\n0 1\n3 0 1 2\n"));
+}
+
+CATALOGUE_TEST(Y05) {
+  const std::string head = kPlyHead.substr(0, kPlyHead.find("element face"));
+  expectRow("Y05", "3dvo-enc",
+            meshInput(dir_, "000.ply", head + "end_header\n0 0 0\n1 0 0\n0 1 0\n"));
+}
+
+CATALOGUE_TEST(Y06) {
+  const std::string ply = formatPly(errorSphere());
+  const size_t body = ply.find("end_header\n") + 11;
+  expectRow("Y06", "3dvo-enc", meshInput(dir_, "000.ply", ply.substr(0, body + 2 * 24 + 10)));
+}
+
+CATALOGUE_TEST(Y07) {
+  expectRow("Y07", "3dvo-enc", meshInput(dir_, "000.ply", formatPly(errorSphere()) + "\n\n"));
+}
+
+CATALOGUE_TEST(Y08) {
+  std::string ply = formatPly(errorSphere());
+  ply[ply.size() - 4] = 99;  // the last face's last index (little-endian int)
+  expectRow("Y08", "3dvo-enc", meshInput(dir_, "000.ply", ply));
+}
+
+CATALOGUE_TEST(Y09) {
+  expectRow("Y09", "3dvo-enc",
+            meshInput(dir_, "000.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 x\n3 0 1 2\n"));
+}
+
+CATALOGUE_TEST(Y10) {
+  for (const char* bad : {"nan", "inf"})
+    expectRow("Y10", "3dvo-enc",
+              meshInput(dir_, "000.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 " + bad + "\n3 0 1 2\n"));
+}
+
+CATALOGUE_TEST(Y11) {
+  expectRow("Y11", "3dvo-enc",
+            meshInput(dir_, "000.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 0\n2 0 1\n"));
+}
+
+CATALOGUE_TEST(Y12) {
+  expectRow("Y12", "3dvo-enc",
+            meshInput(dir_, "000.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 1\n"));
+}
+
+CATALOGUE_TEST(Y13) {
+  std::string head = kPlyHead;
+  head.replace(head.find("list uchar"), 10, "list uint");
+  expectRow("Y13", "3dvo-enc",
+            meshInput(dir_, "000.ply", head + "0 0 0\n1 0 0\n0 1 0\n70000 0 1 2\n"));
+}
+
+CATALOGUE_TEST(Y14) {
+  expectRow("Y14", "3dvo-enc",
+            meshInput(dir_, "000.ply", "ply\nformat ascii 1.0\nelement vertex 67108865\n"));
+}
+
+CATALOGUE_TEST(Y15) {
+  meshInput(dir_, "000.ply", "");
+  std::filesystem::remove(dir_.file("in/000.ply"));
+  std::filesystem::create_symlink("/dev/zero", dir_.file("in/000.ply"));
+  expectRow(
+      "Y15", "3dvo-enc",
+      {"--InputMeshPattern=in/%03d.ply", "--FrameCount=1", "--GridBits=10", "-o", "out/x.3dvo"});
+}
+
+// The sphere as a .gltf (data-URI buffer; accessors: 0 POSITION, 1 indices) to edit.
+nlohmann::json sphereGltf() {
+  return nlohmann::json::parse(formatGltf(errorSphere(), GltfContainer::kGltf));
+}
+
+CATALOGUE_TEST(F01) {
+  expectRow("F01", "3dvo-enc", meshInput(dir_, "000.gltf", "not json"));
+}
+
+CATALOGUE_TEST(F02) {
+  nlohmann::json j = sphereGltf();
+  j.erase("asset");
+  expectRow("F02", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
+}
+
+CATALOGUE_TEST(F03) {
+  std::string glb = formatGltf(errorSphere(), GltfContainer::kGlb);
+  glb[4] = 1;  // version 1
+  expectRow("F03", "3dvo-enc", meshInput(dir_, "000.glb", glb));
+}
+
+CATALOGUE_TEST(F04) {
+  nlohmann::json j = sphereGltf();
+  j["extras"] = std::vector<int>(kMaxGltfJsonValues, 0);
+  expectRow("F04", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
+}
+
+CATALOGUE_TEST(F05) {
+  std::string nested = "0";
+  for (int i = 0; i < 70; ++i)
+    nested = "[" + nested + "]";
+  std::string text = sphereGltf().dump();
+  text.insert(text.size() - 1, ",\"extras\":" + nested);
+  expectRow("F05", "3dvo-enc", meshInput(dir_, "000.gltf", text));
+}
+
+CATALOGUE_TEST(F06) {
+  nlohmann::json j = sphereGltf();
+  std::filesystem::create_directories(dir_.path() / "in");
+  const nlohmann::json::number_unsigned_t length = j["buffers"][0]["byteLength"];
+  test::writeText(dir_.file("in/b.bin"), std::string(length, '\0'));
+  j["buffers"][0]["uri"] = "b.bin";
+  j["buffers"][1] = {{"uri", "./b.bin"}, {"byteLength", length}};
+  expectRow("F06", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
+}
+
+CATALOGUE_TEST(F07) {
+  // A second buffer without uri, written into the GLB's JSON chunk (padded to 4 bytes).
+  const std::string glb = formatGltf(errorSphere(), GltfContainer::kGlb);
+  const uint32_t jsonLength = static_cast<uint8_t>(glb[12]) | static_cast<uint8_t>(glb[13]) << 8;
+  nlohmann::json j = nlohmann::json::parse(glb.substr(20, jsonLength));
+  j["buffers"][1] = {{"byteLength", 4}};
+  std::string json = j.dump();
+  while (json.size() % 4)
+    json += ' ';
+  const std::string bin = glb.substr(20 + jsonLength);
+  auto le = [](uint32_t v) {
+    std::string s(4, '\0');
+    for (int i = 0; i < 4; ++i)
+      s[i] = static_cast<char>(v >> (8 * i));
+    return s;
+  };
+  const std::string out = "glTF" + le(2) +
+                          le(static_cast<uint32_t>(20 + json.size() + bin.size())) +
+                          le(static_cast<uint32_t>(json.size())) + "JSON" + json + bin;
+  expectRow("F07", "3dvo-enc", meshInput(dir_, "000.glb", out));
+}
+
+CATALOGUE_TEST(F08) {
+  nlohmann::json j = sphereGltf();
+  j["accessors"][0]["count"] = 43;
+  expectRow("F08", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
+}
+
+CATALOGUE_TEST(F09) {
+  // Index 5 of the indices accessor (uint32) is set to 99 in the data-URI buffer.
+  Mesh m = errorSphere();
+  m.triangles[1][2] = 99;
+  expectRow("F09", "3dvo-enc", meshInput(dir_, "000.gltf", formatGltf(m, GltfContainer::kGltf)));
+}
+
+CATALOGUE_TEST(F10) {
+  nlohmann::json j = sphereGltf();
+  j["meshes"][0]["primitives"][0]["mode"] = 1;
+  expectRow("F10", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
+}
+
+CATALOGUE_TEST(F11) {
+  nlohmann::json j = sphereGltf();
+  j["accessors"][0]["sparse"] = {{"count", 1},
+                                 {"indices", {{"bufferView", 1}, {"componentType", 5125}}},
+                                 {"values", {{"bufferView", 0}}}};
+  expectRow("F11", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
+}
+
+CATALOGUE_TEST(F12) {
+  nlohmann::json j = sphereGltf();
+  for (int i = 1; i < 40; ++i) {
+    j["meshes"][i] = j["meshes"][0];
+    j["nodes"][i] = {{"mesh", i}};
+  }
+  expectRow("F12", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
+}
+
+// The tinygltf-independent animated file: our writer's 6-frame animation (one run).
+std::string sphereAnimation(int frames) {
+  GltfAnimationWriter writer(25.0);
+  for (const Mesh& m : test::wobblingSphere(1, frames))
+    writer.add(m);
+  return writer.finish();
+}
+
+CATALOGUE_TEST(F13) {
+  // The weights sampler's key times (accessor after the 5 targets) edited in the JSON chunk:
+  // a written .gltf of the same model is easier to edit, so the .glb is converted.
+  const std::string glb = sphereAnimation(6);
+  const uint32_t jsonLength = static_cast<uint8_t>(glb[12]) | static_cast<uint8_t>(glb[13]) << 8;
+  nlohmann::json j = nlohmann::json::parse(glb.substr(20, jsonLength));
+  const int input = j["animations"][0]["samplers"][0]["input"];
+  const int view = j["accessors"][input]["bufferView"];
+  // Key times 0 and 1/25 swapped in the BIN chunk.
+  std::string out = glb;
+  const size_t at = 20 + jsonLength + 8 + j["bufferViews"][view].value("byteOffset", 0);
+  for (int b = 0; b < 4; ++b)
+    std::swap(out[at + b], out[at + 4 + b]);
+  expectRow("F13", "3dvo-enc", meshInput(dir_, "000.glb", out));
+}
+
+CATALOGUE_TEST(F14) {
+  const std::string glb = sphereAnimation(6);
+  const uint32_t jsonLength = static_cast<uint8_t>(glb[12]) | static_cast<uint8_t>(glb[13]) << 8;
+  nlohmann::json j = nlohmann::json::parse(glb.substr(20, jsonLength));
+  const int output = j["animations"][0]["samplers"][0]["output"];
+  std::string json = glb.substr(20, jsonLength);
+  // 30 weights -> 29: the same JSON length.
+  const std::string from = "\"count\":30";
+  size_t pos = 0;
+  for (int seen = 0;; ++seen) {
+    pos = json.find("{\"bufferView\"", pos + 1);
+    if (seen == output) break;
+  }
+  const size_t count = json.find(from, pos);
+  ASSERT_NE(count, std::string::npos);
+  json.replace(count, from.size(), "\"count\":29");
+  std::string out = glb;
+  out.replace(20, jsonLength, json);
+  expectRow("F14", "3dvo-enc", meshInput(dir_, "000.glb", out));
+}
+
+CATALOGUE_TEST(F15) {
+  meshInput(dir_, "seq.glb", sphereAnimation(6));
+  expectRow(
+      "F15", "3dvo-enc",
+      {"--InputMeshPattern=in/seq.glb", "--FirstFrame=6", "--GridBits=10", "-o", "out/x.3dvo"});
+}
+
+CATALOGUE_TEST(F16) {
+  meshInput(dir_, "seq.glb", sphereAnimation(6));
+  expectRow("F16", "3dvo-enc",
+            {"--InputMeshPattern=in/seq.glb", "--FirstFrame=4", "--FrameCount=4", "--GridBits=10",
+             "-o", "out/x.3dvo"});
 }
 
 // ---- cfg and options (3dvo-enc) ----
