@@ -1,5 +1,6 @@
 // fuzz_make_corpus SOURCE_DIR OUT_DIR: writes the seed corpus of every fuzz target, one folder
-// per target (OUT_DIR/stream, units, imesh, pmesh, cfg, obj), from files in the source tree:
+// per target (OUT_DIR/stream, units, imesh, pmesh, cfg, obj, ply, gltf, ...), from files in the
+// source tree:
 //
 //   stream, units  every conformance stream (conformance/streams/*.3dvo), as it is
 //   imesh, draco   every I-mesh unit's im_draco_payload of those streams
@@ -8,6 +9,10 @@
 //                  pmesh_fuzz.cpp reads (mode, quant step, octree depth of the unit's GOM)
 //   cfg            cfg/**/*.cfg, conformance/cfg/*.cfg, fuzz/seeds/cfg/*
 //   obj            frame 0 of each conformance input (decompressed), fuzz/seeds/obj/*
+//   ply            frame 0 of each conformance input as binary and ascii PLY, and a hand-made
+//                  big-endian file with properties and an element to skip
+//   gltf           frame 0 of each conformance input as .gltf and .glb, and an animated .glb
+//                  of its first four frames
 //   dataset        fuzz/seeds/dataset/*
 //   png            small PNGs of 1 to 4 channels written by encodePng
 //
@@ -23,7 +28,11 @@
 #include "bitstream/units.h"
 #include "common/app.h"
 #include "common/file_io.h"
+#include "common/gltf_io.h"
 #include "common/image.h"
+#include "common/obj_io.h"
+#include "common/ply_io.h"
+#include "common/sequence.h"
 
 using namespace tdvo;
 namespace fs = std::filesystem;
@@ -108,7 +117,7 @@ int main(int argc, char** argv) {
     check(argc == 3, "usage: fuzz_make_corpus SOURCE_DIR OUT_DIR");
     const fs::path source = argv[1], out = argv[2];
     for (const char* target : {"stream", "units", "imesh", "draco", "texture", "pmesh", "cfg",
-                               "obj", "dataset", "png"}) {
+                               "obj", "ply", "gltf", "dataset", "png"}) {
       std::error_code ec;
       fs::remove_all(out / target, ec);
       makeDirectories((out / target).string());
@@ -145,6 +154,43 @@ int main(int argc, char** argv) {
                       text);
       ++objs;
     }
+    // PLY and glTF seeds from the same frames (and the first four as an animation).
+    int plys = 0, gltfs = 0;
+    for (const auto& entry : fs::directory_iterator(source / "conformance/inputs")) {
+      const std::string pattern = (entry.path() / "%04d.obj.gz").string();
+      if (!fs::exists(framePath(pattern, 0))) continue;
+      const std::string name = entry.path().filename().string();
+      const Mesh frame0 = readObj(framePath(pattern, 0));
+      writeFileAtomic((out / "ply" / (name + "-0000.ply")).string(), formatPly(frame0));
+      writeFileAtomic((out / "ply" / (name + "-0000-ascii.ply")).string(),
+                      formatPly(frame0, PlyEncoding::kAscii));
+      writeFileAtomic((out / "gltf" / (name + "-0000.gltf")).string(),
+                      formatGltf(frame0, GltfContainer::kGltf));
+      writeFileAtomic((out / "gltf" / (name + "-0000.glb")).string(),
+                      formatGltf(frame0, GltfContainer::kGlb));
+      GltfAnimationWriter animation(25.0);
+      for (int f = 0; f < 4 && fs::exists(framePath(pattern, f)); ++f)
+        animation.add(f == 0 ? frame0 : readObj(framePath(pattern, f)));
+      writeFileAtomic((out / "gltf" / (name + "-animation.glb")).string(), animation.finish());
+      plys += 2;
+      gltfs += 3;
+    }
+    {
+      // Big-endian, a skipped list and float before the indices, an element to skip.
+      std::string be =
+          "ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\n"
+          "property uchar red\nproperty int y\nproperty double z\nelement edge 1\n"
+          "property short a\nelement face 1\nproperty list uchar short flags\n"
+          "property list uchar uint vertex_indices\nend_header\n";
+      const char vertex[] = {0x3f, char(0x80), 0, 0, 7, 0, 0, 0, 2, 0x40, 0, 0, 0, 0, 0, 0, 0};
+      for (int v = 0; v < 3; ++v)
+        be.append(vertex, sizeof vertex);
+      be += std::string("\0\1\1\0\2\3", 6);
+      const char indices[] = {0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 2};
+      be.append(indices, sizeof indices);
+      writeFileAtomic((out / "ply" / "big-endian.ply").string(), be);
+      ++plys;
+    }
     for (const fs::path& f : filesIn(source / "fuzz/seeds/obj", "", false)) {
       copyTo(f, out / "obj", "seed_" + f.filename().string());
       ++objs;
@@ -168,9 +214,9 @@ int main(int argc, char** argv) {
         ++pngs;
       }
     std::printf(
-        "fuzz_make_corpus: %zu streams, %d mesh payloads, %d cfg, %d obj, %d dataset, "
-        "%d png -> %s\n",
-        streams.size(), payloads, cfgs, objs, datasets, pngs, out.c_str());
+        "fuzz_make_corpus: %zu streams, %d mesh payloads, %d cfg, %d obj, %d ply, %d gltf, "
+        "%d dataset, %d png -> %s\n",
+        streams.size(), payloads, cfgs, objs, plys, gltfs, datasets, pngs, out.c_str());
     return 0;
   });
 }

@@ -3,7 +3,7 @@
 #
 #   bash scripts/fuzz.sh TARGET SECONDS [extra libFuzzer options]
 #
-# TARGET is one of: stream units imesh pmesh cfg obj dataset png texture draco. Builds the libFuzzer targets
+# TARGET is one of: stream units imesh pmesh cfg obj ply gltf dataset png texture draco. Builds the libFuzzer targets
 # with clang in build-fuzz/ (TDVO_FUZZ=ON: ASan + UBSan + coverage), writes the seed corpora
 # (build-fuzz/fuzz/seeds/), then runs the target on its working corpus build-fuzz/fuzz/work/TARGET
 # (kept between runs; new inputs go there), the seeds and fuzz/regressions/TARGET. A finding
@@ -16,7 +16,7 @@ target="${1:?usage: fuzz.sh TARGET SECONDS [libFuzzer options]}"
 seconds="${2:?usage: fuzz.sh TARGET SECONDS [libFuzzer options]}"
 shift 2
 case "$target" in
-  stream | units | imesh | pmesh | cfg | obj | dataset | png | texture | draco) ;;
+  stream | units | imesh | pmesh | cfg | obj | ply | gltf | dataset | png | texture | draco) ;;
   *) echo "fuzz.sh: unknown target '$target'" >&2; exit 2 ;;
 esac
 build=build-fuzz
