@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -25,7 +27,9 @@
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
 #include "common/error.h"
+#include "common/gltf_io.h"
 #include "common/obj_io.h"
+#include "common/ply_io.h"
 #include "decoder/imesh_decoder.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/h264_encoder.h"
@@ -434,3 +438,92 @@ TEST(Memory, GzipObjOfManyCommentsIsReadInLittleMemory) {
 }
 
 }  // namespace
+
+// ---- Mesh files (issue 19, item 6): PLY and glTF readers ----
+
+// A PLY header may declare 2^26 vertices and 2^27 faces in a few hundred bytes: nothing is
+// reserved from the counts, so the truncated file is refused within the bound of its size.
+TEST(Memory, PlyDeclaredCountsAllocateNothing) {
+  SKIP_UNDER_ASAN();
+  std::string ply =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 67108864\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 134217728\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  ply += std::string(12 * 5, '\0');
+  const std::string outcome = runWithinBound(ply.size(), [&] { parsePly(ply, "x.ply"); });
+  EXPECT_NE(outcome.find("file ends in element 'vertex' (record 6 of 67108864)"), std::string::npos)
+      << outcome;
+}
+
+// Skipped list properties of the largest length are read past in pieces: 200 faces each with a
+// 2^16-entry list of doubles to skip (100 MiB, gzip-compressed to about 100 KiB) take memory for
+// one record, not for the file.
+TEST(Memory, PlyLongSkippedListsAreStreamed) {
+  SKIP_UNDER_ASAN();
+  test::TempDir dir("memory-ply");
+  const std::string path = dir.file("lists.ply.gz");
+  const std::string head =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 200\nproperty list ushort double "
+      "skipped\nproperty list uchar int vertex_indices\nend_header\n";
+  {
+    gzFile gz = gzopen(path.c_str(), "wb9");
+    ASSERT_NE(gz, nullptr);
+    gzwrite(gz, head.data(), static_cast<unsigned>(head.size()));
+    const float vertices[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    gzwrite(gz, vertices, sizeof vertices);
+    const std::string list(65536 * 8, '\0');
+    for (int f = 0; f < 200; ++f) {
+      const uint16_t count = 65535;
+      gzwrite(gz, &count, 2);
+      gzwrite(gz, list.data(), 65535 * 8);
+      const char face[13] = {3, 0, 0, 0, 0, 1, 0, 0, 0, 2, 0, 0, 0};
+      gzwrite(gz, face, sizeof face);
+    }
+    gzclose(gz);
+  }
+  const size_t bytes = std::filesystem::file_size(path);
+  EXPECT_LT(bytes, 1u << 20);
+  const std::string outcome = runWithinBound(bytes, [&] {
+    const Mesh mesh = readPly(path);
+    if (mesh.triangles.size() != 200) throw Error("wrong triangle count");
+  });
+  EXPECT_EQ(outcome, "ok");
+}
+
+// 3000 morph targets that all name one accessor (a few bytes of JSON each): a frame with every
+// weight at 1 is made in place, one vertex array, not a copy per target (which would take
+// 3000 x 2562 x 24 bytes = 184 MB, above the bound of this 0.1 MB file).
+TEST(Memory, GltfSharedMorphTargetsAllocateOneFrame) {
+  SKIP_UNDER_ASAN();
+  const Mesh sphere = test::wobblingSphere(4, 1)[0];
+  nlohmann::json j = nlohmann::json::parse(formatGltf(sphere, GltfContainer::kGltf));
+  nlohmann::json targets = nlohmann::json::array();
+  for (int i = 0; i < 3000; ++i)
+    targets.push_back({{"POSITION", 0}});
+  j["meshes"][0]["primitives"][0]["targets"] = targets;
+  j["meshes"][0]["weights"] = std::vector<double>(3000, 1.0);
+  const std::string text = j.dump();
+  const std::string outcome = runWithinBound(text.size(), [&] {
+    const GltfFile file(std::vector<uint8_t>(text.begin(), text.end()), "x.gltf");
+    const Mesh frame = file.frame(0);
+    if (frame.positions.size() != sphere.positions.size()) throw Error("wrong vertex count");
+  });
+  EXPECT_EQ(outcome, "ok") << text.size() << " bytes";
+}
+
+// The JSON value limit keeps tinygltf's model (hundreds of bytes per accessor) within the bound
+// of the file's size: a file of 65000 minimal accessors (4 values each, just under the limit)
+// loads within it.
+TEST(Memory, GltfManyAccessorsStayWithinTheBound) {
+  SKIP_UNDER_ASAN();
+  nlohmann::json j =
+      nlohmann::json::parse(formatGltf(test::wobblingSphere(1, 1)[0], GltfContainer::kGltf));
+  for (int i = 0; i < 65000; ++i)
+    j["accessors"].push_back({{"componentType", 5126}, {"count", 1}, {"type", "SCALAR"}});
+  const std::string text = j.dump();
+  const std::string outcome = runWithinBound(text.size(), [&] {
+    GltfFile(std::vector<uint8_t>(text.begin(), text.end()), "x.gltf").frame(0);
+  });
+  EXPECT_EQ(outcome, "ok") << text.size() << " bytes";
+}
