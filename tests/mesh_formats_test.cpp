@@ -417,11 +417,6 @@ TEST(FormatsRoundTrip, ObjToGltfAndPlyToPly) {
   roundTrip(frames, ".glb", "obj", ".obj");
 }
 
-}  // namespace
-}  // namespace tdvo
-
-namespace tdvo {
-namespace {
 
 // The "MD5 ..." lines of an app's stdout.
 std::vector<std::string> md5Lines(const std::string& out) {
@@ -531,6 +526,35 @@ TEST(FormatsApps, MorphTargetGlbAsEncoderInput) {
   for (int f = 2; f < 7; ++f)
     expectClose(frames[f], readObj(dir.file(framePath("r%04d.obj", f))), tolerance,
                 "frame " + std::to_string(f));
+}
+
+
+// 3dvo-metrics reads PLY and glTF frames too: the decoded frames as binary PLY (double) against
+// the same frames as glTF (float) differ by float rounding only.
+TEST(FormatsApps, MetricsReadsPlyAndGltf) {
+  test::TempDir dir("formats-metrics");
+  std::filesystem::create_directories(dir.path() / "in");
+  const std::vector<Mesh> frames = test::wobblingSphere(2, 3, 1.0, {2, 1, 0});
+  for (size_t f = 0; f < frames.size(); ++f)
+    writePly(dir.file("in/" + framePath("%03d.ply", static_cast<int>(f))), frames[f]);
+  ASSERT_EQ(test::run(dir, kBin + "/3dvo-enc",
+                      {"--InputMeshPattern=in/%03d.ply", "--FrameCount=3", "--GridBits=12", "-o",
+                       "x.3dvo"})
+                .exitCode,
+            0);
+  ASSERT_EQ(
+      test::run(dir, kBin + "/3dvo-dec", {"-i", "x.3dvo", "-o", "p", "--MeshFormat=ply"}).exitCode,
+      0);
+  ASSERT_EQ(
+      test::run(dir, kBin + "/3dvo-dec", {"-i", "x.3dvo", "-o", "g", "--MeshFormat=glb"}).exitCode,
+      0);
+  const test::CommandResult m =
+      test::run(dir, kBin + "/3dvo-metrics",
+                {"--ReferenceMeshes=p/%04d.ply", "--TestMeshes=g/%04d.glb", "--FrameCount=3"});
+  ASSERT_EQ(m.exitCode, 0) << m.err;
+  const size_t at = m.out.find("vertex RMSE           : ");
+  ASSERT_NE(at, std::string::npos) << m.out;
+  EXPECT_LT(std::stod(m.out.substr(at + 24)), 1e-6) << m.out;
 }
 
 }  // namespace
