@@ -271,6 +271,11 @@ struct GltfFile::Impl {
   }
 
   void load() {
+    // Extensions that change what accessors hold (Draco or meshopt compression) are not read;
+    // quantized positions (KHR_mesh_quantization) are plain accessors of integer types.
+    for (const std::string& e : model.extensionsRequired)
+      if (e != "KHR_mesh_quantization")
+        fail("the file requires the extension " + e + ", which is not read");
     for (const tinygltf::Buffer& b : model.buffers)
       bufferBytes += b.data.size();
     for (size_t n = 0; n < model.nodes.size(); ++n) {

@@ -1636,6 +1636,13 @@ CATALOGUE_TEST(F16) {
              "-o", "out/x.3dvo"});
 }
 
+CATALOGUE_TEST(F17) {
+  nlohmann::json j = sphereGltf();
+  j["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+  j["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+  expectRow("F17", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
+}
+
 // ---- cfg and options (3dvo-enc) ----
 
 CATALOGUE_TEST(C01) {

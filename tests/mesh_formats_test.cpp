@@ -309,6 +309,7 @@ TEST(Gltf, WrittenFilesReadBack) {
     frames.push_back(s);
   for (const Mesh& s : test::wobblingSphere(1, 2))
     frames.push_back(s);
+  frames.push_back(test::waveSheet(5, 3, 1)[0]);  // a run of one frame (no morph targets)
   GltfAnimationWriter writer(30.0);
   for (const Mesh& f : frames)
     writer.add(f);
@@ -417,7 +418,6 @@ TEST(FormatsRoundTrip, ObjToGltfAndPlyToPly) {
   roundTrip(frames, ".glb", "obj", ".obj");
 }
 
-
 // The "MD5 ..." lines of an app's stdout.
 std::vector<std::string> md5Lines(const std::string& out) {
   std::vector<std::string> lines;
@@ -479,6 +479,12 @@ TEST(FormatsApps, Md5LinesAndAnimationFile) {
       EXPECT_TRUE(std::filesystem::exists(dir.file("out/0008" + ext))) << format;
     }
   }
+  // Without MeshFormat, OutputMeshPattern's extension chooses the format.
+  ASSERT_EQ(test::run(dir, kBin + "/3dvo-dec",
+                      {"-i", "x.3dvo", "-o", "byname", "--OutputMeshPattern=f%03d.ply"})
+                .exitCode,
+            0);
+  EXPECT_EQ(readPly(dir.file("byname/f008.ply")).triangles, frames[8].triangles);
   // The animation holds the decoded frames (as float).
   const GltfFile animation(dir.file("out/all.glb"));
   ASSERT_EQ(animation.frameCount(), frames.size());
@@ -527,7 +533,6 @@ TEST(FormatsApps, MorphTargetGlbAsEncoderInput) {
     expectClose(frames[f], readObj(dir.file(framePath("r%04d.obj", f))), tolerance,
                 "frame " + std::to_string(f));
 }
-
 
 // 3dvo-metrics reads PLY and glTF frames too: the decoded frames as binary PLY (double) against
 // the same frames as glTF (float) differ by float rounding only.
