@@ -562,5 +562,25 @@ TEST(FormatsApps, MetricsReadsPlyAndGltf) {
   EXPECT_LT(std::stod(m.out.substr(at + 24)), 1e-6) << m.out;
 }
 
+// The same frames as OBJ and as binary PLY code to the same stream, byte for byte (PLY holds
+// the positions as double, exactly as the OBJ text reads back).
+TEST(FormatsApps, PlyAndObjInputCodeTheSameStream) {
+  test::TempDir dir("formats-same");
+  std::filesystem::create_directories(dir.path() / "in");
+  const std::vector<Mesh> frames = test::wobblingSphere(2, 4, 0.7, {1, 2, 3});
+  for (size_t f = 0; f < frames.size(); ++f) {
+    writeObj(dir.file("in/" + framePath("%03d.obj", static_cast<int>(f))), frames[f]);
+    writePly(dir.file("in/" + framePath("%03d.ply", static_cast<int>(f))), frames[f]);
+  }
+  for (const char* ext : {"obj", "ply"}) {
+    const test::CommandResult r =
+        test::run(dir, kBin + "/3dvo-enc",
+                  {std::string("--InputMeshPattern=in/%03d.") + ext, "--FrameCount=4",
+                   "--GridBits=14", "-o", std::string("x.") + ext + ".3dvo"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+  }
+  EXPECT_EQ(test::readText(dir.file("x.obj.3dvo")), test::readText(dir.file("x.ply.3dvo")));
+}
+
 }  // namespace
 }  // namespace tdvo
