@@ -226,6 +226,7 @@ float toFloat(double v) {
 struct GltfFile::Impl {
   std::string name;
   tinygltf::Model model;
+  uint64_t inputBytes = 0;     // the file's bytes
   uint64_t bufferBytes = 0;    // all buffers' bytes
   std::vector<int> meshNodes;  // nodes with a mesh; without nodes, -1 - mesh index
   bool animated = false;
@@ -327,6 +328,22 @@ struct GltfFile::Impl {
     std::sort(times.begin(), times.end());
     times.erase(std::unique(times.begin(), times.end()), times.end());
     if (times.empty()) fail("animation 0 has no channels");
+    // The work of the frames: keyframes x the vertices a frame can have, bounded by the input.
+    uint64_t vertices = 0;
+    for (int n : meshNodes) {
+      const int m = n < 0 ? -1 - n : model.nodes[static_cast<size_t>(n)].mesh;
+      for (const tinygltf::Primitive& prim : model.meshes[static_cast<size_t>(m)].primitives) {
+        const auto pos = prim.attributes.find("POSITION");
+        if (pos != prim.attributes.end() && pos->second >= 0 &&
+            static_cast<size_t>(pos->second) < model.accessors.size())
+          vertices += model.accessors[static_cast<size_t>(pos->second)].count;
+      }
+    }
+    const uint64_t budget = kMaxGltfVertexFramesPerByte * (inputBytes + bufferBytes);
+    if (vertices > 0 && times.size() > budget / vertices)
+      fail(std::to_string(times.size()) + " keyframes x " + std::to_string(vertices) +
+           " vertices: more than " + std::to_string(kMaxGltfVertexFramesPerByte) +
+           " vertex-frames per byte of the file and its buffers");
   }
 
   // The value of sampler `s` of animation 0 at time t: `width` values per key.
@@ -415,6 +432,22 @@ struct GltfFile::Impl {
                " morph targets, primitive 0 has " + std::to_string(m.primitives[0].targets.size()));
       }
     }
+    // Morph-target vertices added, likewise (targets sharing their data cannot multiply the work).
+    uint64_t moved = 0;
+    for (const Shown& s : shown) {
+      const tinygltf::Mesh& m = model.meshes[static_cast<size_t>(s.mesh)];
+      for (const tinygltf::Primitive& prim : m.primitives)
+        for (size_t j = 0; j < prim.targets.size() && j < s.weights.size(); ++j) {
+          const auto tp = prim.targets[j].find("POSITION");
+          if (s.weights[j] != 0 && tp != prim.targets[j].end() && tp->second >= 0 &&
+              static_cast<size_t>(tp->second) < model.accessors.size())
+            moved += model.accessors[static_cast<size_t>(tp->second)].count;
+        }
+    }
+    if (moved * 12 > bufferBytes)
+      fail("frame " + std::to_string(k) + ": its morph targets move " + std::to_string(moved) +
+           " vertices, more than its buffers' " + std::to_string(bufferBytes) +
+           " bytes hold (targets sharing their data)");
     if (vertices * 12 > bufferBytes || corners > bufferBytes)
       fail("frame " + std::to_string(k) + ": " + std::to_string(vertices) + " vertices and " +
            std::to_string(corners / 3) + " triangles, more than its buffers' " +
@@ -547,6 +580,7 @@ std::unique_ptr<GltfFile::Impl> parseGltf(const std::vector<uint8_t>& bytes,
     if (!files.error.empty()) throw Error(name + ": buffer: " + files.error);
     throw Error(name + ": glTF: " + firstLine(err.empty() ? "cannot be read" : err));
   }
+  impl->inputBytes = bytes.size();
   impl->load();
   return impl;
 }

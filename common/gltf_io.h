@@ -29,11 +29,17 @@ namespace tdvo {
 // at most kMaxGltfJsonValues values nested at most kMaxGltfJsonDepth deep (tinygltf's model
 // grows with the number of JSON values, not with their bytes); each buffer's bytes read once
 // (two buffers naming the same file or the same GLB chunk are refused); and a frame's vertices
-// and triangles bounded by the bytes of the buffers (12 bytes per vertex, 3 per triangle), so
-// that meshes or targets sharing their data cannot make a frame larger than the file.
+// and triangles bounded by the bytes of the buffers (12 bytes per vertex, 1 per index), and the
+// morph-target vertices a frame adds likewise, so that meshes or targets sharing their data
+// cannot make a frame larger, or its work longer, than the file; and keyframes x vertices at
+// most kMaxGltfVertexFramesPerByte per input byte.
 constexpr size_t kMaxGltfJsonBytes = size_t{1} << 26;
 constexpr size_t kMaxGltfJsonValues = size_t{1} << 18;
 constexpr size_t kMaxGltfJsonDepth = 64;
+// A sequence file's frames cost work in proportion to keyframes x vertices: at most this many
+// per byte of the file and its buffers (a morph-target file holds one target per frame, about
+// 1/12 per byte; blend-shape animations tens).
+constexpr uint64_t kMaxGltfVertexFramesPerByte = 4096;
 
 // A glTF file opened as a frame sequence. The whole file (and its buffers) is held, each frame
 // is made when asked for; frame() is const and may be called from several threads at once.

@@ -1643,6 +1643,55 @@ CATALOGUE_TEST(F17) {
   expectRow("F17", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
 }
 
+CATALOGUE_TEST(F18) {
+  // 100,000 vertices (no indices: a triangle per 3) whose POSITION accessor is also the output
+  // of a STEP scale animation with 100,000 key times: 10^10 vertex-frames from 1.6 MB.
+  const size_t n = 99999;
+  std::string bin(n * 12 + n * 4, '\0');
+  for (size_t i = 0; i < n; ++i) {
+    const float p[3] = {static_cast<float>(i % 97) + 1, static_cast<float>(i % 89) + 1,
+                        static_cast<float>(i / 97) + 1};
+    std::memcpy(&bin[i * 12], p, 12);
+    const float t = static_cast<float>(i);
+    std::memcpy(&bin[n * 12 + i * 4], &t, 4);
+  }
+  nlohmann::json j;
+  j["asset"] = {{"version", "2.0"}};
+  j["buffers"] = {{{"uri", "b.bin"}, {"byteLength", bin.size()}}};
+  j["bufferViews"] = {{{"buffer", 0}, {"byteLength", n * 12}},
+                      {{"buffer", 0}, {"byteOffset", n * 12}, {"byteLength", n * 4}}};
+  j["accessors"] = {{{"bufferView", 0},
+                     {"componentType", 5126},
+                     {"count", n},
+                     {"type", "VEC3"},
+                     {"min", {1, 1, 1}},
+                     {"max", {97, 89, 1031}}},
+                    {{"bufferView", 1},
+                     {"componentType", 5126},
+                     {"count", n},
+                     {"type", "SCALAR"},
+                     {"min", {0}},
+                     {"max", {n - 1}}}};
+  j["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}};
+  j["nodes"] = {{{"mesh", 0}}};
+  j["animations"] = {
+      {{"samplers", {{{"input", 1}, {"output", 0}, {"interpolation", "STEP"}}}},
+       {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "scale"}}}}}}}};
+  std::filesystem::create_directories(dir_.path() / "in");
+  test::writeText(dir_.file("in/b.bin"), bin);
+  test::writeText(dir_.file("in/seq.gltf"), j.dump());
+  expectRow("F18", "3dvo-enc",
+            {"--InputMeshPattern=in/seq.gltf", "--GridBits=10", "-o", "out/x.3dvo"});
+}
+
+CATALOGUE_TEST(F19) {
+  nlohmann::json j = sphereGltf();
+  j["meshes"][0]["primitives"][0]["targets"] = {
+      {{"POSITION", 0}}, {{"POSITION", 0}}, {{"POSITION", 0}}};
+  j["meshes"][0]["weights"] = {1, 1, 1};
+  expectRow("F19", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
+}
+
 // ---- cfg and options (3dvo-enc) ----
 
 CATALOGUE_TEST(C01) {
