@@ -328,8 +328,9 @@ struct GltfFile::Impl {
     std::sort(times.begin(), times.end());
     times.erase(std::unique(times.begin(), times.end()), times.end());
     if (times.empty()) fail("animation 0 has no channels");
-    // The work of the frames: keyframes x the vertices a frame can have, bounded by the input.
-    uint64_t vertices = 0;
+    // The work of the frames: keyframes x the vertices a frame can have (and its mesh nodes,
+    // visited even when empty), bounded by the input.
+    uint64_t vertices = meshNodes.size();
     for (int n : meshNodes) {
       const int m = n < 0 ? -1 - n : model.nodes[static_cast<size_t>(n)].mesh;
       for (const tinygltf::Primitive& prim : model.meshes[static_cast<size_t>(m)].primitives) {
