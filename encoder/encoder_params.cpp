@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <thread>
 
-#include "common/error.h"
-#include "common/sequence.h"
+#include "common/core/error.h"
+#include "common/core/sequence.h"
 
 namespace tdvo {
 

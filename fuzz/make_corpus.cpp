@@ -21,9 +21,10 @@
 
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
-#include "common/app.h"
-#include "common/file_io.h"
-#include "common/image.h"
+#include "common/core/app.h"
+#include "common/core/file_io.h"
+#include "common/media/png_io.h"
+#include "common/views/image.h"
 
 using namespace tdvo;
 namespace fs = std::filesystem;

@@ -24,8 +24,8 @@
 
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
-#include "common/error.h"
-#include "common/obj_io.h"
+#include "common/core/error.h"
+#include "common/core/obj_io.h"
 #include "decoder/imesh_decoder.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/h264_encoder.h"
