@@ -1,9 +1,9 @@
 // The mesh sequences the benchmarks run on, so that every figure names its input:
 //   horse-gallop  ../shared/data/meshseq/horse-gallop, 48 frames, 8,431 vertices
 //   samba         ../shared/data/meshseq/samba, 175 frames, 9,971 vertices
-// and, when neither is present, "blob": the generated deforming icosphere of common/sample_mesh.h
-// (5 subdivisions: 10,242 vertices, 48 frames). Each benchmark program adds a context line per
-// sequence ("sequence.<name>: <source>") to its output header.
+// and, when neither is present, "blob": the generated deforming icosphere of
+// tools/eval/sample_mesh.h (5 subdivisions: 10,242 vertices, 48 frames). Each benchmark program
+// adds a context line per sequence ("sequence.<name>: <source>") to its output header.
 #pragma once
 
 #include <benchmark/benchmark.h>
@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "common/mesh.h"
-#include "common/obj_io.h"
-#include "common/sample_mesh.h"
-#include "common/sequence.h"
+#include "common/core/mesh.h"
+#include "common/core/obj_io.h"
+#include "common/core/sequence.h"
+#include "tools/eval/sample_mesh.h"
 
 namespace tdvo {
 namespace bench {

@@ -1,4 +1,4 @@
-// Throughput of the CABAC engine (common/cabac.h) in bins per second (items_per_second).
+// Throughput of the CABAC engine (common/entropy/cabac.h) in bins per second (items_per_second).
 //   Regular/<p%>: context-coded i.i.d. bins with P(1) = p% through one adaptive context;
 //                 10% is the skewed case that matters, 50% is the branch-predictor worst case.
 //   Bypass:       one encodeBypass/decodeBypass call per bin.
@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "common/cabac.h"
+#include "common/entropy/cabac.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Speed of the geometry metrics (common/metrics.h) on meshes of the size 3DVO works with.
+// Speed of the geometry metrics (tools/eval/metrics.h) on meshes of the size 3DVO works with.
 //
 //   build/bin/metrics_bench --benchmark_filter=Hausdorff
 //
@@ -11,8 +11,8 @@
 #include <filesystem>
 #include <string>
 
-#include "common/metrics.h"
-#include "common/obj_io.h"
+#include "common/core/obj_io.h"
+#include "tools/eval/metrics.h"
 
 using namespace tdvo;
 

@@ -35,7 +35,7 @@
 
 #include "bench/bench_sequences.h"
 #include "bitstream/pmesh_syntax.h"
-#include "common/md5.h"
+#include "common/core/md5.h"
 #include "decoder/imesh_decoder.h"
 #include "decoder/pmesh_decoder.h"
 #include "decoder/stream_decoder.h"
@@ -183,7 +183,7 @@ void pmeshDecode(benchmark::State& state, const BenchSequence& s, const Conditio
 // decodes: the context's offset from the payload's first context (the first context of
 // PMeshContexts or TemporalDpcmContexts, which the first element of either payload uses),
 // kBypass for a bypass bin, and the bin's value in bit 7. signedUeg is the UEGk binarisation of
-// common/cabac.h bin by bin; the recorded decoding is checked against decodePMesh's output.
+// common/entropy/cabac.h bin by bin; the recorded decoding is checked against decodePMesh's output.
 class RecordingReaderIo {
  public:
   static constexpr bool kReading = true;

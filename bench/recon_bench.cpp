@@ -10,9 +10,9 @@
 // extraction are timed from inside carveVisualHull (manual time), so each is reported alone.
 #include <benchmark/benchmark.h>
 
-#include "common/metrics.h"
-#include "common/rasteriser.h"
-#include "common/sample_mesh.h"
+#include "common/views/rasteriser.h"
+#include "tools/eval/metrics.h"
+#include "tools/eval/sample_mesh.h"
 #include "tools/multiview/synth_rig.h"
 #include "tools/recon/carving_view.h"
 #include "tools/recon/silhouettes.h"

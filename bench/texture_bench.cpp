@@ -1,7 +1,7 @@
 // Speed of texture coding and of decoding streams with textures (issue 10):
 //
 //   TextureShape/<seq>                  the object's shape in one camera: the decoded mesh
-//                                       rasterised (common/texture_shape.h); items =
+//                                       rasterised (common/views/texture_shape.h); items =
 //                                       camera-frames/s
 //   TextureEncode/<seq>/threads:<n>     TextureEncoder::encodeGom over the first GOM: per camera
 //                                       and frame, reading the camera's frame (PNG or video),
@@ -40,11 +40,11 @@
 #include <vector>
 
 #include "bitstream/camera_parameters.h"
-#include "common/config.h"
-#include "common/md5.h"
-#include "common/obj_io.h"
-#include "common/texture_shape.h"
-#include "common/yuv.h"
+#include "common/core/config.h"
+#include "common/core/md5.h"
+#include "common/core/obj_io.h"
+#include "common/media/yuv.h"
+#include "common/views/texture_shape.h"
 #include "decoder/h264_decoder.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/sequence_encoder.h"

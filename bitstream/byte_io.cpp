@@ -4,7 +4,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "common/error.h"
+#include "common/core/error.h"
 
 namespace tdvo {
 

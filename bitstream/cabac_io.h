@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "common/cabac.h"
-#include "common/error.h"
+#include "common/core/error.h"
+#include "common/entropy/cabac.h"
 
 namespace tdvo {
 

@@ -1,10 +1,10 @@
-// Conversions between the camera model (common/camera.h) and its syntax structure. The doubles
-// are carried bit for bit, so encoder and decoder project with identical cameras.
+// Conversions between the camera model (common/views/camera.h) and its syntax structure. The
+// doubles are carried bit for bit, so encoder and decoder project with identical cameras.
 #pragma once
 
 #include "bitstream/syntax.h"
-#include "common/camera.h"
-#include "common/texture_shape.h"
+#include "common/views/camera.h"
+#include "common/views/texture_shape.h"
 
 namespace tdvo {
 

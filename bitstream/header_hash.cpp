@@ -2,8 +2,8 @@
 
 #include "bitstream/byte_io.h"
 #include "bitstream/units.h"
-#include "common/error.h"
-#include "common/md5.h"
+#include "common/core/error.h"
+#include "common/core/md5.h"
 
 namespace tdvo {
 

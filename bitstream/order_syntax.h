@@ -43,7 +43,7 @@
 #include <vector>
 
 #include "bitstream/cabac_io.h"
-#include "common/mesh.h"
+#include "common/core/mesh.h"
 
 namespace tdvo {
 

@@ -31,7 +31,7 @@
 #include <vector>
 
 #include "bitstream/cabac_io.h"
-#include "common/pmesh_prediction.h"
+#include "common/geometry/pmesh_prediction.h"
 
 namespace tdvo {
 

@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "bitstream/syntax.h"
-#include "common/error.h"
+#include "common/core/error.h"
 
 namespace tdvo {
 

@@ -7,8 +7,8 @@ extern "C" {
 
 #include <cstring>
 
-#include "common/error.h"
-#include "common/ffmpeg_log.h"
+#include "common/core/error.h"
+#include "common/media/ffmpeg_log.h"
 
 namespace tdvo {
 

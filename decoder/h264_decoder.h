@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "common/yuv.h"
+#include "common/media/yuv.h"
 
 struct AVCodecContext;
 struct AVPacket;

@@ -3,7 +3,7 @@
 #include <draco/mesh/mesh.h>
 
 #include "bitstream/syntax.h"
-#include "common/error.h"
+#include "common/core/error.h"
 #include "decoder/draco_limits.h"
 
 namespace tdvo {

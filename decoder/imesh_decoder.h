@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "common/mesh.h"
+#include "common/core/mesh.h"
 #include "decoder/draco_limits.h"
 
 namespace tdvo {

@@ -18,18 +18,21 @@
 #include "bitstream/camera_parameters.h"
 #include "bitstream/header_hash.h"
 #include "bitstream/units.h"
-#include "common/app.h"
-#include "common/config.h"
-#include "common/dataset.h"
-#include "common/file_io.h"
-#include "common/gltf_io.h"
-#include "common/gom_list.h"
-#include "common/image.h"
-#include "common/md5.h"
-#include "common/mesh_io.h"
-#include "common/progress.h"
-#include "common/sequence.h"
-#include "common/yuv.h"
+#include "common/core/app.h"
+#include "common/core/config.h"
+#include "common/core/file_io.h"
+#include "common/core/gltf_io.h"
+#include "common/core/gom_list.h"
+#include "common/core/md5.h"
+#include "common/core/mesh_io.h"
+#include "common/core/obj_io.h"
+#include "common/core/progress.h"
+#include "common/core/sequence.h"
+#include "common/media/dataset.h"
+#include "common/media/media_version.h"
+#include "common/media/png_io.h"
+#include "common/media/yuv.h"
+#include "common/views/image.h"
 #include "decoder/decoder_version.h"
 #include "decoder/stream_decoder.h"
 
@@ -252,6 +255,7 @@ int main(int argc, char** argv) {
               "cameras whose textures are decoded in parallel (0 = hardware concurrency); the "
               "output, the MD5 lines and any error are the same for any value");
     table.addVersionLines(decoderVersionLines());
+    table.addVersionLines(mediaLibraryVersions());
     if (!table.parseCommandLine(argc, argv)) return 0;
     check(!streamPath.empty(), "no stream given (-i STREAM.3dvo; see --help)");
     // The per-frame mesh format: MeshFormat, else OutputMeshPattern's extension.

@@ -9,10 +9,10 @@
 
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
-#include "common/grid.h"
-#include "common/image.h"
-#include "common/mesh.h"
-#include "common/yuv.h"
+#include "common/core/grid.h"
+#include "common/core/mesh.h"
+#include "common/media/yuv.h"
+#include "common/views/image.h"
 #include "decoder/draco_limits.h"
 
 namespace tdvo {

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <thread>
 
-#include "common/error.h"
-#include "common/mesh_io.h"
-#include "common/sequence.h"
+#include "common/core/error.h"
+#include "common/core/mesh_io.h"
+#include "common/core/sequence.h"
 
 namespace tdvo {
 

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "bitstream/syntax.h"
-#include "common/config.h"
-#include "common/gom_list.h"
+#include "common/core/config.h"
+#include "common/core/gom_list.h"
 #include "encoder/texture_padding.h"
 
 namespace tdvo {

@@ -6,8 +6,8 @@
 #include <utility>
 
 #include "bitstream/syntax.h"
-#include "common/error.h"
-#include "common/keyframes.h"
+#include "common/core/error.h"
+#include "common/geometry/keyframes.h"
 #include "decoder/pmesh_decoder.h"
 #include "encoder/keyframe_selection.h"
 #include "encoder/pmesh_encoder.h"

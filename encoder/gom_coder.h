@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "bitstream/units.h"
-#include "common/grid.h"
-#include "common/mesh.h"
+#include "common/core/grid.h"
+#include "common/core/mesh.h"
 #include "encoder/encoder_params.h"
 #include "encoder/imesh_encoder.h"
 

@@ -4,7 +4,7 @@
 
 #include <cstring>
 
-#include "common/error.h"
+#include "common/core/error.h"
 
 namespace tdvo {
 
@@ -43,8 +43,9 @@ H264Encoder::H264Encoder(const H264Settings& s) : settings_(s) {
   }
   if (x264_param_apply_profile(&p, "high") < 0) throw Error("x264 rejects the High profile");
   encoder_ = x264_encoder_open(&p);
-  if (!encoder_) throw Error("x264 cannot open an encoder for " + std::to_string(s.width) + "x" +
-                             std::to_string(s.height) + " textures");
+  if (!encoder_)
+    throw Error("x264 cannot open an encoder for " + std::to_string(s.width) + "x" +
+                std::to_string(s.height) + " textures");
 }
 
 H264Encoder::~H264Encoder() {

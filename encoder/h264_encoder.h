@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "common/yuv.h"
+#include "common/media/yuv.h"
 
 struct x264_t;
 
@@ -21,8 +21,8 @@ namespace tdvo {
 struct H264Settings {
   int width = 0, height = 0;  // multiples of 16 (the texture box)
   double frameRate = 25;
-  int qp = 28;                // constant QP (0..51) when bitrateKbps == 0
-  int bitrateKbps = 0;        // > 0: average bitrate instead of constant QP
+  int qp = 28;          // constant QP (0..51) when bitrateKbps == 0
+  int bitrateKbps = 0;  // > 0: average bitrate instead of constant QP
   std::string preset = "medium";
 };
 

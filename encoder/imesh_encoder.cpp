@@ -10,7 +10,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "common/error.h"
+#include "common/core/error.h"
 #include "decoder/imesh_decoder.h"
 
 namespace tdvo {

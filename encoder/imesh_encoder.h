@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "bitstream/order_syntax.h"
-#include "common/mesh.h"
+#include "common/core/mesh.h"
 
 namespace tdvo {
 

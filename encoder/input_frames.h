@@ -10,7 +10,7 @@
 
 #include <string>
 
-#include "common/dataset.h"
+#include "common/media/dataset.h"
 #include "encoder/encoder_params.h"
 
 namespace tdvo {

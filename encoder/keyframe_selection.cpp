@@ -4,7 +4,7 @@
 #include <limits>
 #include <numeric>
 
-#include "common/keyframes.h"
+#include "common/geometry/keyframes.h"
 
 namespace tdvo {
 

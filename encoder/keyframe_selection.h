@@ -1,11 +1,11 @@
-// Choice of a GOM's keyframes (see common/keyframes.h). The first and the last frame of a GOM
-// are always keyframes, so every GOM interpolates only between its own frames and stays a
+// Choice of a GOM's keyframes (see common/geometry/keyframes.h). The first and the last frame of a
+// GOM are always keyframes, so every GOM interpolates only between its own frames and stays a
 // random-access point.
 #pragma once
 
 #include <vector>
 
-#include "common/mesh.h"
+#include "common/core/mesh.h"
 
 namespace tdvo {
 

@@ -8,16 +8,17 @@
 #include <optional>
 
 #include "bitstream/header_hash.h"
-#include "common/app.h"
-#include "common/dataset.h"
-#include "common/file_io.h"
-#include "common/gltf_io.h"
-#include "common/md5.h"
-#include "common/mesh_io.h"
-#include "common/obj_io.h"
-#include "common/progress.h"
-#include "common/sequence.h"
-#include "common/yuv.h"
+#include "common/core/app.h"
+#include "common/core/file_io.h"
+#include "common/core/gltf_io.h"
+#include "common/core/md5.h"
+#include "common/core/mesh_io.h"
+#include "common/core/obj_io.h"
+#include "common/core/progress.h"
+#include "common/core/sequence.h"
+#include "common/media/dataset.h"
+#include "common/media/media_version.h"
+#include "common/media/yuv.h"
 #include "decoder/decoder_version.h"
 #include "encoder/input_frames.h"
 #include "encoder/sequence_encoder.h"
@@ -37,6 +38,7 @@ int main(int argc, char** argv) {
     table.addVersionLines(decoderVersionLines());
     table.addVersionLines(
         {std::string("x264 ") + X264_POINTVER + " (build " + std::to_string(X264_BUILD) + ")"});
+    table.addVersionLines(mediaLibraryVersions());
     if (!table.parseCommandLine(argc, argv)) return 0;
     params.validate();
     const auto start = std::chrono::steady_clock::now();

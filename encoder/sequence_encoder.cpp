@@ -6,8 +6,8 @@
 #include <utility>
 
 #include "bitstream/units.h"
-#include "common/error.h"
-#include "common/ordered_parallel.h"
+#include "common/core/error.h"
+#include "common/core/ordered_parallel.h"
 #include "encoder/gom_coder.h"
 
 namespace tdvo {

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "common/grid.h"
-#include "common/mesh.h"
+#include "common/core/grid.h"
+#include "common/core/mesh.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/encoder_params.h"
 #include "encoder/texture_encoder.h"

@@ -15,10 +15,10 @@
 
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
-#include "common/dataset.h"
-#include "common/grid.h"
-#include "common/rasteriser.h"
-#include "common/yuv.h"
+#include "common/core/grid.h"
+#include "common/media/dataset.h"
+#include "common/media/yuv.h"
+#include "common/views/rasteriser.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/encoder_params.h"
 

@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/error.h"
+#include "common/core/error.h"
 
 namespace tdvo {
 
@@ -84,7 +84,8 @@ YuvPicture prepareTexture(const Image& frame, const Image& shape, const TextureB
     for (int x = 0; x < box.width; ++x) {
       const int fx = box.x + x, fy = box.y + y;
       if (fx >= frame.width || fy >= frame.height) continue;
-      for (int c = 0; c < 3; ++c) cut.at(x, y, c) = frame.at(fx, fy, c);
+      for (int c = 0; c < 3; ++c)
+        cut.at(x, y, c) = frame.at(fx, fy, c);
       luma.inside[size_t(y) * box.width + x] = shape.at(fx, fy) != 0;
     }
   YuvPicture picture = rgbToYuv420(cut);
@@ -97,7 +98,7 @@ YuvPicture prepareTexture(const Image& frame, const Image& shape, const TextureB
   for (int y = 0; y < ch; ++y)
     for (int x = 0; x < cw; ++x)
       cb.inside[size_t(y) * cw + x] = luma.in(2 * x, 2 * y) || luma.in(2 * x + 1, 2 * y) ||
-                                       luma.in(2 * x, 2 * y + 1) || luma.in(2 * x + 1, 2 * y + 1);
+                                      luma.in(2 * x, 2 * y + 1) || luma.in(2 * x + 1, 2 * y + 1);
   cr.inside = cb.inside;
 
   const int half = kMacroblockSize / 2;
@@ -111,9 +112,11 @@ YuvPicture prepareTexture(const Image& frame, const Image& shape, const TextureB
         }
       if (!touched) {
         for (int y = my; y < my + kMacroblockSize; ++y)
-          for (int x = mx; x < mx + kMacroblockSize; ++x) luma.at(x, y) = 128;
+          for (int x = mx; x < mx + kMacroblockSize; ++x)
+            luma.at(x, y) = 128;
         for (int y = my / 2; y < my / 2 + half; ++y)
-          for (int x = mx / 2; x < mx / 2 + half; ++x) cb.at(x, y) = cr.at(x, y) = 128;
+          for (int x = mx / 2; x < mx / 2 + half; ++x)
+            cb.at(x, y) = cr.at(x, y) = 128;
       } else if (!full && padding == TexturePadding::kExtrapolate) {
         padBlock(luma, mx, my, kMacroblockSize);
         padBlock(cb, mx / 2, my / 2, half);

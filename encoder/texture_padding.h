@@ -1,7 +1,7 @@
 // Texture preprocessing: what the encoder hands to H.264 for one camera and frame.
 //
 // The picture is the texture box cut out of the camera frame (pixels past the frame's edge are
-// mid-grey), converted to YUV 4:2:0 (common/yuv.h), then padded outside the object's shape:
+// mid-grey), converted to YUV 4:2:0 (common/media/yuv.h), then padded outside the object's shape:
 //   none         nothing: the background stays;
 //   mb128        every macroblock the shape does not touch becomes Y = Cb = Cr = 128 (the
 //                source paper's method);
@@ -13,9 +13,9 @@
 // Padding only changes pixels outside the shape, which the decoder never shows.
 #pragma once
 
-#include "common/image.h"
-#include "common/texture_shape.h"
-#include "common/yuv.h"
+#include "common/media/yuv.h"
+#include "common/views/image.h"
+#include "common/views/texture_shape.h"
 
 namespace tdvo {
 

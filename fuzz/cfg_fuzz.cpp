@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "common/config.h"
-#include "common/error.h"
-#include "common/sequence.h"
+#include "common/core/config.h"
+#include "common/core/error.h"
+#include "common/core/sequence.h"
 #include "encoder/encoder_params.h"
 #include "fuzz/fuzz_support.h"
 

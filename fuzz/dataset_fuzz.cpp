@@ -9,8 +9,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "common/dataset.h"
-#include "common/error.h"
+#include "common/core/error.h"
+#include "common/media/dataset.h"
 #include "fuzz/fuzz_support.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -12,7 +12,7 @@
 
 #include <draco/mesh/mesh.h>
 
-#include "common/error.h"
+#include "common/core/error.h"
 #include "decoder/draco_limits.h"
 #include "fuzz/fuzz_support.h"
 

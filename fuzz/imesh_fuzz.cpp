@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/error.h"
-#include "common/pmesh_prediction.h"
+#include "common/core/error.h"
+#include "common/geometry/pmesh_prediction.h"
 #include "decoder/imesh_decoder.h"
 #include "fuzz/fuzz_support.h"
 

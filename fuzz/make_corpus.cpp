@@ -26,13 +26,14 @@
 
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
-#include "common/app.h"
-#include "common/file_io.h"
-#include "common/gltf_io.h"
-#include "common/image.h"
-#include "common/obj_io.h"
-#include "common/ply_io.h"
-#include "common/sequence.h"
+#include "common/core/app.h"
+#include "common/core/file_io.h"
+#include "common/core/gltf_io.h"
+#include "common/core/obj_io.h"
+#include "common/core/ply_io.h"
+#include "common/core/sequence.h"
+#include "common/media/png_io.h"
+#include "common/views/image.h"
 
 using namespace tdvo;
 namespace fs = std::filesystem;

@@ -8,8 +8,8 @@
 #include <cstring>
 #include <string>
 
-#include "common/error.h"
-#include "common/obj_io.h"
+#include "common/core/error.h"
+#include "common/core/obj_io.h"
 #include "fuzz/fuzz_support.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

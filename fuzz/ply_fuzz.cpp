@@ -10,8 +10,8 @@
 #include <cstring>
 #include <string>
 
-#include "common/error.h"
-#include "common/ply_io.h"
+#include "common/core/error.h"
+#include "common/core/ply_io.h"
 #include "fuzz/fuzz_support.h"
 
 namespace {

@@ -16,9 +16,9 @@
 #include <vector>
 
 #include "bitstream/pmesh_syntax.h"
-#include "common/error.h"
-#include "common/obj_io.h"
-#include "common/sequence.h"
+#include "common/core/error.h"
+#include "common/core/obj_io.h"
+#include "common/core/sequence.h"
 #include "decoder/pmesh_decoder.h"
 #include "encoder/imesh_encoder.h"
 #include "encoder/sequence_encoder.h"

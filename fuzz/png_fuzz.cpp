@@ -12,8 +12,9 @@
 #include <cstdlib>
 #include <vector>
 
-#include "common/error.h"
-#include "common/image.h"
+#include "common/core/error.h"
+#include "common/media/png_io.h"
+#include "common/views/image.h"
 #include "fuzz/fuzz_support.h"
 
 namespace {

@@ -10,8 +10,8 @@
 // decoder that reaches the budget has done work linear in its output, which is what is tested.
 #include <cstdint>
 
-#include "common/error.h"
-#include "common/md5.h"
+#include "common/core/error.h"
+#include "common/core/md5.h"
 #include "decoder/stream_decoder.h"
 #include "fuzz/fuzz_support.h"
 

@@ -10,8 +10,8 @@
 // run stays fast; within the budget the decoder does work linear in its output.
 #include <cstdint>
 
-#include "common/error.h"
-#include "common/md5.h"
+#include "common/core/error.h"
+#include "common/core/md5.h"
 #include "decoder/stream_decoder.h"
 #include "fuzz/fuzz_support.h"
 

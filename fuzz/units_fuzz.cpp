@@ -8,7 +8,7 @@
 
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
-#include "common/error.h"
+#include "common/core/error.h"
 #include "fuzz/fuzz_support.h"
 
 namespace {

@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "bitstream/header_hash.h"
-#include "common/gom_list.h"
-#include "common/grid.h"
-#include "common/md5.h"
-#include "common/obj_io.h"
+#include "common/core/gom_list.h"
+#include "common/core/grid.h"
+#include "common/core/md5.h"
+#include "common/core/obj_io.h"
 #include "encoder/sequence_encoder.h"
 #include "tests/test_support.h"
 

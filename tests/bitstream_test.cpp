@@ -19,7 +19,7 @@
 #include "bitstream/byte_io.h"
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
-#include "common/error.h"
+#include "common/core/error.h"
 
 // ---- Allocation watch: the largest single allocation made while a test runs a reader. ----
 // operator new allocates with malloc, so operator delete is replaced too, to release with free

@@ -1,5 +1,5 @@
-// Tests of the CABAC engine and binarisations (common/cabac.h).
-#include "common/cabac.h"
+// Tests of the CABAC engine and binarisations (common/entropy/cabac.h).
+#include "common/entropy/cabac.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "common/error.h"
+#include "common/core/error.h"
 
 namespace tdvo {
 namespace {

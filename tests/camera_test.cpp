@@ -1,12 +1,12 @@
 // The camera model: projection, back-projection, lens distortion, Rodrigues, OpenGL → CV.
-#include "common/camera.h"
+#include "common/views/camera.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "common/error.h"
+#include "common/core/error.h"
 
 using namespace tdvo;
 

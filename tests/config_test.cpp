@@ -1,12 +1,13 @@
-// HM-style configuration (common/config.h): cfg syntax, ordering of -c files and --Key=value,
+// HM-style configuration (common/core/config.h): cfg syntax, ordering of -c files and --Key=value,
 // short flags, booleans, enumerations, errors naming the origin and the key, and --help.
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-#include "common/config.h"
-#include "common/error.h"
+#include "common/core/config.h"
+#include "common/core/error.h"
+#include "common/media/media_version.h"
 #include "encoder/encoder_params.h"
 #include "tests/test_support.h"
 
@@ -237,6 +238,7 @@ TEST(Config, Utf8ByteOrderMarkIsAccepted) {
 TEST(Config, VersionPrintsTheLibraries) {
   Params p;
   p.table.addVersionLines({"stream syntax version 7"});
+  p.table.addVersionLines(mediaLibraryVersions());
   testing::internal::CaptureStdout();
   const bool go = p.parse({"--version"});
   const std::string out = testing::internal::GetCapturedStdout();
@@ -245,6 +247,18 @@ TEST(Config, VersionPrintsTheLibraries) {
   for (const char* line : {"stream syntax version 7", "zlib ", "libpng ", "FFmpeg libavcodec ",
                            "FFmpeg libavformat ", "FFmpeg libavutil ", "FFmpeg libswscale "})
     EXPECT_NE(out.find(line), std::string::npos) << line << " missing in:\n" << out;
+}
+
+// The core layer's --version names only the core's libraries: a program that links the core
+// alone (geometry) does not claim libpng or FFmpeg.
+TEST(Config, CoreVersionNamesOnlyTheCoreLibraries) {
+  Params p;
+  testing::internal::CaptureStdout();
+  p.parse({"--version"});
+  const std::string out = testing::internal::GetCapturedStdout();
+  EXPECT_NE(out.find("zlib "), std::string::npos) << out;
+  EXPECT_EQ(out.find("libpng"), std::string::npos) << out;
+  EXPECT_EQ(out.find("FFmpeg"), std::string::npos) << out;
 }
 
 TEST(Config, UnknownKeyOnCommandLine) {

@@ -1,5 +1,5 @@
 // The dataset layout (dataset.json), PNG images and video input.
-#include "common/dataset.h"
+#include "common/media/dataset.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -7,10 +7,11 @@
 #include <filesystem>
 #include <fstream>
 
-#include "common/error.h"
-#include "common/file_io.h"
-#include "common/image.h"
-#include "common/video_reader.h"
+#include "common/core/error.h"
+#include "common/core/file_io.h"
+#include "common/media/png_io.h"
+#include "common/media/video_reader.h"
+#include "common/views/image.h"
 
 using namespace tdvo;
 namespace fs = std::filesystem;

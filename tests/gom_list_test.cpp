@@ -1,4 +1,4 @@
-// The GOM list (common/gom_list.h) and the encoder's GOMListFile: every line is checked with a
+// The GOM list (common/core/gom_list.h) and the encoder's GOMListFile: every line is checked with a
 // message naming the file and line; GOMs of uneven length are coded as one stream that decodes
 // bit-exactly, with the GOM headers of the list, keyframes chosen inside each GOM and a texture
 // IDR picture at every GOM start and nowhere else.
@@ -11,8 +11,8 @@
 #include "bitstream/byte_io.h"
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
-#include "common/error.h"
-#include "common/gom_list.h"
+#include "common/core/error.h"
+#include "common/core/gom_list.h"
 #include "encoder/encoder_params.h"
 #include "roundtrip_check.h"
 #include "test_support.h"

@@ -1,4 +1,4 @@
-// The integer geometry grid (common/grid.h): construction from bounds, quantisation error,
+// The integer geometry grid (common/core/grid.h): construction from bounds, quantisation error,
 // clamping, degenerate boxes and the range of bit depths.
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
-#include "common/grid.h"
+#include "common/core/error.h"
+#include "common/core/grid.h"
 
 namespace tdvo {
 namespace {

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "common/gom_list.h"
-#include "common/md5.h"
-#include "common/obj_io.h"
-#include "common/sequence.h"
+#include "common/core/gom_list.h"
+#include "common/core/md5.h"
+#include "common/core/obj_io.h"
+#include "common/core/sequence.h"
 #include "tests/roundtrip_check.h"
 #include "tests/test_support.h"
 

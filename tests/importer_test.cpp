@@ -1,6 +1,7 @@
 // Importers: hand-made inputs (always run) and the real data sets in ../shared/data/multiview
 // (skipped, saying so, when absent). The real-data checks are geometric: the calibration must
 // put the object where the images show it.
+#include "common/media/png_io.h"
 #include "tools/multiview/importers.h"
 
 #include <gtest/gtest.h>
@@ -13,10 +14,10 @@
 #include <fstream>
 #include <limits>
 
-#include "common/error.h"
-#include "common/file_io.h"
-#include "common/rasteriser.h"
-#include "common/video_reader.h"
+#include "common/core/error.h"
+#include "common/core/file_io.h"
+#include "common/media/video_reader.h"
+#include "common/views/rasteriser.h"
 
 using namespace tdvo;
 namespace fs = std::filesystem;

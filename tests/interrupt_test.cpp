@@ -1,5 +1,5 @@
 // No data lost: an interrupted run leaves no file under a final name and no staged file
-// (common/interrupt.h, common/file_io.h). The apps from TDVO_BIN_DIR are started as child
+// (common/core/interrupt.h, common/core/file_io.h). The apps from TDVO_BIN_DIR are started as child
 // processes and sent SIGTERM or SIGINT as soon as their first staged output file appears; the
 // staging itself (registry, partly failed commit) is checked in-process.
 #include <fcntl.h>
@@ -20,10 +20,10 @@
 #include <thread>
 #include <vector>
 
-#include "common/error.h"
-#include "common/file_io.h"
-#include "common/interrupt.h"
-#include "common/obj_io.h"
+#include "common/core/error.h"
+#include "common/core/file_io.h"
+#include "common/core/interrupt.h"
+#include "common/core/obj_io.h"
 #include "tests/test_support.h"
 
 namespace tdvo {

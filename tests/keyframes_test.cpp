@@ -4,11 +4,11 @@
 
 #include <random>
 
-#include "common/keyframes.h"
-#include "common/md5.h"
-#include "common/sample_mesh.h"
+#include "common/core/md5.h"
+#include "common/geometry/keyframes.h"
 #include "encoder/keyframe_selection.h"
 #include "encoder/sequence_encoder.h"
+#include "tools/eval/sample_mesh.h"
 
 namespace tdvo {
 namespace {

@@ -10,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
-#include "common/gltf_io.h"
-#include "common/mesh_io.h"
-#include "common/obj_io.h"
-#include "common/ply_io.h"
-#include "common/sequence.h"
-#include "common/tiny_gltf_config.h"
+#include "common/core/error.h"
+#include "common/core/gltf_io.h"
+#include "common/core/mesh_io.h"
+#include "common/core/obj_io.h"
+#include "common/core/ply_io.h"
+#include "common/core/sequence.h"
+#include "common/core/tiny_gltf_config.h"
 #include "tests/test_support.h"
 
 namespace tdvo {

@@ -1,5 +1,5 @@
-// Geometry metrics (common/metrics.h) against hand-computed cases, and the 3dvo-metrics app.
-#include "common/metrics.h"
+// Geometry metrics (tools/eval/metrics.h) against hand-computed cases, and the 3dvo-metrics app.
+#include "tools/eval/metrics.h"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
-#include "common/grid.h"
-#include "common/obj_io.h"
+#include "common/core/error.h"
+#include "common/core/grid.h"
+#include "common/core/obj_io.h"
 #include "test_support.h"
 
 namespace tdvo {

@@ -1,4 +1,4 @@
-// OBJ reading and writing (common/obj_io.h): accepted forms, exact round trips, gzip input and
+// OBJ reading and writing (common/core/obj_io.h): accepted forms, exact round trips, gzip input and
 // an error naming file and line for every malformed input.
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include <limits>
 #include <string>
 
-#include "common/error.h"
-#include "common/obj_io.h"
+#include "common/core/error.h"
+#include "common/core/obj_io.h"
 #include "tests/test_support.h"
 
 namespace tdvo {

@@ -17,9 +17,9 @@
 
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
-#include "common/error.h"
-#include "common/obj_io.h"
-#include "common/sequence.h"
+#include "common/core/error.h"
+#include "common/core/obj_io.h"
+#include "common/core/sequence.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/sequence_encoder.h"
 #include "tests/test_support.h"

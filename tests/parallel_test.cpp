@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
-#include "common/md5.h"
-#include "common/ordered_parallel.h"
+#include "common/core/error.h"
+#include "common/core/md5.h"
+#include "common/core/ordered_parallel.h"
 #include "encoder/sequence_encoder.h"
 #include "tests/test_support.h"
 

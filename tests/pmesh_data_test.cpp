@@ -5,9 +5,9 @@
 
 #include <filesystem>
 
-#include "common/md5.h"
-#include "common/obj_io.h"
-#include "common/sequence.h"
+#include "common/core/md5.h"
+#include "common/core/obj_io.h"
+#include "common/core/sequence.h"
 #include "encoder/sequence_encoder.h"
 
 namespace tdvo {

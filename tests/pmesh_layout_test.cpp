@@ -13,12 +13,12 @@
 #include <random>
 #include <vector>
 
-#include "common/grid.h"
-#include "common/pmesh_prediction.h"
-#include "common/sample_mesh.h"
+#include "common/core/grid.h"
+#include "common/geometry/pmesh_prediction.h"
 #include "decoder/pmesh_decoder.h"
 #include "encoder/imesh_encoder.h"
 #include "encoder/pmesh_encoder.h"
+#include "tools/eval/sample_mesh.h"
 
 // Counts heap allocations of this test program (for DecodingAGomAllocatesOnlyOnItsFirstFrame).
 // Not inlined: g++ -O2 with sanitizers inlines them into gtest's `new TestClass` and then warns

@@ -6,12 +6,12 @@
 #include <random>
 #include <vector>
 
-#include "common/error.h"
-#include "common/grid.h"
-#include "common/sample_mesh.h"
+#include "common/core/error.h"
+#include "common/core/grid.h"
 #include "decoder/pmesh_decoder.h"
 #include "encoder/imesh_encoder.h"
 #include "encoder/pmesh_encoder.h"
+#include "tools/eval/sample_mesh.h"
 
 namespace tdvo {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <cstdlib>
 
-#include "common/progress.h"
+#include "common/core/progress.h"
 #include "tests/test_support.h"
 
 namespace tdvo {

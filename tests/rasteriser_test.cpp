@@ -1,13 +1,13 @@
 // The rasteriser: exact coverage (top-left rule, no gaps or double coverage on shared edges),
 // clipping, z-buffer, perspective-correct interpolation, distortion.
-#include "common/rasteriser.h"
+#include "common/views/rasteriser.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "common/error.h"
+#include "common/core/error.h"
 
 using namespace tdvo;
 

@@ -7,13 +7,13 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "common/config.h"
-#include "common/dataset.h"
-#include "common/metrics.h"
-#include "common/obj_io.h"
-#include "common/rasteriser.h"
-#include "common/sequence.h"
+#include "common/core/config.h"
+#include "common/core/obj_io.h"
+#include "common/core/sequence.h"
+#include "common/media/dataset.h"
+#include "common/views/rasteriser.h"
 #include "tests/test_support.h"
+#include "tools/eval/metrics.h"
 #include "tools/multiview/importers.h"
 #include "tools/recon/recon_params.h"
 #include "tools/recon/recon_pipeline.h"

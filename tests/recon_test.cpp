@@ -7,15 +7,15 @@
 #include <map>
 #include <random>
 
-#include "common/config.h"
-#include "common/error.h"
-#include "common/file_io.h"
-#include "common/metrics.h"
-#include "common/obj_io.h"
-#include "common/rasteriser.h"
-#include "common/sample_mesh.h"
-#include "common/sequence.h"
+#include "common/core/config.h"
+#include "common/core/error.h"
+#include "common/core/file_io.h"
+#include "common/core/obj_io.h"
+#include "common/core/sequence.h"
+#include "common/views/rasteriser.h"
 #include "tests/test_support.h"
+#include "tools/eval/metrics.h"
+#include "tools/eval/sample_mesh.h"
 #include "tools/multiview/synth_rig.h"
 #include "tools/recon/carving_view.h"
 #include "tools/recon/closest_point.h"

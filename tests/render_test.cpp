@@ -8,11 +8,12 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "common/error.h"
-#include "common/gom_list.h"
-#include "common/obj_io.h"
-#include "common/rasteriser.h"
-#include "common/video_reader.h"
+#include "common/core/error.h"
+#include "common/core/gom_list.h"
+#include "common/core/obj_io.h"
+#include "common/media/png_io.h"
+#include "common/media/video_reader.h"
+#include "common/views/rasteriser.h"
 #include "test_support.h"
 #include "tools/multiview/synth_rig.h"
 #include "tools/render/camera_path.h"

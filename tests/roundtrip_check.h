@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "common/md5.h"
+#include "common/core/md5.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/sequence_encoder.h"
 

@@ -1,10 +1,10 @@
-// Frame-numbered file patterns (common/sequence.h).
+// Frame-numbered file patterns (common/core/sequence.h).
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "common/error.h"
-#include "common/sequence.h"
+#include "common/core/error.h"
+#include "common/core/sequence.h"
 
 namespace tdvo {
 namespace {

@@ -1,4 +1,5 @@
 // The synthetic capture rig: exact masks, determinism, the app itself.
+#include "common/media/png_io.h"
 #include "tools/multiview/synth_rig.h"
 
 #include <gtest/gtest.h>
@@ -9,12 +10,12 @@
 #include <filesystem>
 #include <map>
 
-#include "common/error.h"
-#include "common/file_io.h"
-#include "common/obj_io.h"
-#include "common/rasteriser.h"
-#include "common/sequence.h"
-#include "common/sample_mesh.h"
+#include "common/core/error.h"
+#include "common/core/file_io.h"
+#include "common/core/obj_io.h"
+#include "common/core/sequence.h"
+#include "common/views/rasteriser.h"
+#include "tools/eval/sample_mesh.h"
 
 using namespace tdvo;
 namespace fs = std::filesystem;

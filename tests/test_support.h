@@ -24,8 +24,8 @@
 #include <utility>
 #include <vector>
 
-#include "common/mesh.h"
-#include "common/sample_mesh.h"
+#include "common/core/mesh.h"
+#include "tools/eval/sample_mesh.h"
 
 namespace tdvo {
 namespace test {

@@ -1,4 +1,4 @@
-// Texture metrics: the BT.601 conversion and PSNR of common/metrics.h against hand-computed
+// Texture metrics: the BT.601 conversion and PSNR of tools/eval/metrics.h against hand-computed
 // values, and the texture mode of 3dvo-metrics on hand-made datasets and on real decoder output.
 #include <gtest/gtest.h>
 
@@ -9,11 +9,12 @@
 #include <string>
 #include <vector>
 
-#include "common/dataset.h"
-#include "common/error.h"
-#include "common/image.h"
-#include "common/metrics.h"
+#include "common/core/error.h"
+#include "common/media/dataset.h"
+#include "common/media/png_io.h"
+#include "common/views/image.h"
 #include "test_support.h"
+#include "tools/eval/metrics.h"
 
 namespace tdvo {
 namespace {

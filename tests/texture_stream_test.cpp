@@ -5,9 +5,10 @@
 
 #include <filesystem>
 
-#include "common/dataset.h"
-#include "common/image.h"
-#include "common/md5.h"
+#include "common/core/md5.h"
+#include "common/media/dataset.h"
+#include "common/media/png_io.h"
+#include "common/views/image.h"
 #include "test_support.h"
 
 namespace tdvo {

@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "common/error.h"
-#include "common/texture_shape.h"
-#include "common/yuv.h"
+#include "common/core/error.h"
+#include "common/media/yuv.h"
+#include "common/views/texture_shape.h"
 #include "decoder/h264_decoder.h"
 #include "encoder/h264_encoder.h"
 #include "encoder/texture_padding.h"
@@ -86,7 +86,8 @@ TEST(TexturePadding, Mb128AndExtrapolateOnlyTouchTheOutside) {
     for (int mx = 0; mx < box.width; mx += 16) {
       bool touched = false;
       for (int y = my; y < my + 16; ++y)
-        for (int x = mx; x < mx + 16; ++x) touched = touched || shape.at(box.x + x, box.y + y);
+        for (int x = mx; x < mx + 16; ++x)
+          touched = touched || shape.at(box.x + x, box.y + y);
       if (touched) continue;
       ++greyMacroblocks;
       for (int y = my; y < my + 16; ++y)
@@ -100,8 +101,9 @@ TEST(TexturePadding, Mb128AndExtrapolateOnlyTouchTheOutside) {
   // just left of the disc on its middle row equals its right neighbour inside.
   const int row = 30;
   int x = 0;
-  while (!shape.at(x + 1, row)) ++x;  // x: the last pixel outside, left of the disc
-  ASSERT_GT(x, 16);                  // inside the disc's boundary macroblock, not a grey one
+  while (!shape.at(x + 1, row))
+    ++x;             // x: the last pixel outside, left of the disc
+  ASSERT_GT(x, 16);  // inside the disc's boundary macroblock, not a grey one
   EXPECT_EQ(extra.y[size_t(row) * box.width + x], extra.y[size_t(row) * box.width + x + 1]);
 }
 
@@ -124,7 +126,8 @@ TEST(H264, RoundTripIsDeterministicAndIdrsDecodeAlone) {
   EXPECT_EQ(units, again);  // same input, same bytes
   H264Decoder decoder("test");
   std::vector<YuvPicture> decoded;
-  for (const auto& au : units) decoded.push_back(decoder.decode(au, 64, 48));
+  for (const auto& au : units)
+    decoded.push_back(decoder.decode(au, 64, 48));
   for (size_t f = 0; f < decoded.size(); ++f) {
     double squared = 0;
     for (size_t i = 0; i < decoded[f].y.size(); ++i)
@@ -133,10 +136,12 @@ TEST(H264, RoundTripIsDeterministicAndIdrsDecodeAlone) {
   }
   // Decoding from the second IDR alone gives the same pictures (a GOM is a random-access point).
   H264Decoder fresh("test");
-  for (size_t f = 3; f < units.size(); ++f) EXPECT_EQ(fresh.decode(units[f], 64, 48), decoded[f]);
+  for (size_t f = 3; f < units.size(); ++f)
+    EXPECT_EQ(fresh.decode(units[f], 64, 48), decoded[f]);
   // A corrupted access unit is an error, not a crash.
   std::vector<uint8_t> bad = units[1];
-  for (size_t i = 8; i < bad.size(); ++i) bad[i] ^= 0x55;
+  for (size_t i = 8; i < bad.size(); ++i)
+    bad[i] ^= 0x55;
   H264Decoder third("test");
   third.decode(units[0], 64, 48);
   EXPECT_THROW(third.decode(bad, 64, 48), Error);

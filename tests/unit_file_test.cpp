@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "bitstream/units.h"
-#include "common/error.h"
-#include "common/md5.h"
+#include "common/core/error.h"
+#include "common/core/md5.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/sequence_encoder.h"
 #include "tests/test_support.h"

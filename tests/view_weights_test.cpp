@@ -1,6 +1,6 @@
-// The view-dependent texture weights (common/view_weights.h): they sum to 1, belong exactly to
+// The view-dependent texture weights (tools/eval/view_weights.h): they sum to 1, belong exactly to
 // one camera at its own pose, and are continuous in between cameras.
-#include "common/view_weights.h"
+#include "tools/eval/view_weights.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "common/camera.h"
+#include "common/views/camera.h"
 
 using namespace tdvo;
 

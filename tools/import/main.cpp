@@ -6,10 +6,11 @@
 //   3dvo-import -i ../shared/data/multiview/uu-4cam -o uu --Up=0,0,-1
 #include <cstdio>
 
-#include "common/app.h"
-#include "common/config.h"
-#include "common/dataset.h"
-#include "common/file_io.h"
+#include "common/core/app.h"
+#include "common/core/config.h"
+#include "common/core/file_io.h"
+#include "common/media/dataset.h"
+#include "common/media/media_version.h"
 #include "tools/multiview/importers.h"
 
 int main(int argc, char** argv) {
@@ -42,6 +43,7 @@ int main(int argc, char** argv) {
               "a video");
     table.section("World");
     table.add("Up", options.up, "the world's up direction x,y,z (empty: unknown)");
+    table.addVersionLines(tdvo::mediaLibraryVersions());
     if (!table.parseCommandLine(argc, argv)) return 0;
     tdvo::check(!input.empty(), "no input given (-i INPUT); see --help");
     tdvo::check(!output.empty(), "no output folder given (-o DIR); see --help");

@@ -12,16 +12,17 @@
 #include <vector>
 
 #include "bitstream/syntax.h"
-#include "common/app.h"
-#include "common/config.h"
-#include "common/error.h"
-#include "common/file_io.h"
-#include "common/gom_list.h"
-#include "common/mesh_io.h"
-#include "common/metrics.h"
-#include "common/obj_io.h"
-#include "common/progress.h"
-#include "common/sequence.h"
+#include "common/core/app.h"
+#include "common/core/config.h"
+#include "common/core/error.h"
+#include "common/core/file_io.h"
+#include "common/core/gom_list.h"
+#include "common/core/mesh_io.h"
+#include "common/core/obj_io.h"
+#include "common/core/progress.h"
+#include "common/core/sequence.h"
+#include "common/media/media_version.h"
+#include "tools/eval/metrics.h"
 #include "tools/metrics/texture_metrics.h"
 
 using namespace tdvo;
@@ -125,6 +126,7 @@ int main(int argc, char** argv) {
                       "-t out/%04d.obj --Correspondence=nearest --GroupSize=8 --CsvFile=m.csv");
     p.registerOptions(table);
     table.addVersionLines({"stream syntax version " + std::to_string(kSyntaxVersion)});
+    table.addVersionLines(mediaLibraryVersions());
     if (!table.parseCommandLine(argc, argv)) return 0;
     if (!p.texture.referenceDataset.empty() || !p.texture.testDataset.empty()) {
       check(p.referenceMeshes.empty() && p.testMeshes.empty(),

@@ -9,11 +9,11 @@
 #include "bitstream/camera_parameters.h"
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
-#include "common/dataset.h"
-#include "common/error.h"
-#include "common/file_io.h"
-#include "common/metrics.h"
-#include "common/progress.h"
+#include "common/core/error.h"
+#include "common/core/file_io.h"
+#include "common/core/progress.h"
+#include "common/media/dataset.h"
+#include "tools/eval/metrics.h"
 
 namespace tdvo {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "common/error.h"
+#include "common/core/error.h"
 #include "tools/multiview/importers.h"
 
 namespace tdvo {

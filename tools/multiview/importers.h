@@ -1,11 +1,11 @@
 // Importers: calibrated multi-view data in the formats it is published in, turned into the 3DVO
-// dataset layout (common/dataset.h). Each importer only reads calibration and file names; the
+// dataset layout (common/media/dataset.h). Each importer only reads calibration and file names; the
 // images and videos stay where they are and the dataset refers to them.
 #pragma once
 
 #include <string>
 
-#include "common/dataset.h"
+#include "common/media/dataset.h"
 
 namespace tdvo {
 

@@ -4,8 +4,9 @@
 #include <filesystem>
 #include <sstream>
 
-#include "common/error.h"
-#include "common/file_io.h"
+#include "common/core/error.h"
+#include "common/core/file_io.h"
+#include "common/media/png_io.h"
 #include "tools/multiview/importers.h"
 
 namespace tdvo {

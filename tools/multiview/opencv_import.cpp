@@ -7,11 +7,12 @@
 #include <filesystem>
 #include <sstream>
 
-#include "common/error.h"
-#include "common/file_io.h"
-#include "common/image.h"
-#include "common/sequence.h"
-#include "common/video_reader.h"
+#include "common/core/error.h"
+#include "common/core/file_io.h"
+#include "common/core/sequence.h"
+#include "common/media/png_io.h"
+#include "common/media/video_reader.h"
+#include "common/views/image.h"
 #include "tools/multiview/importers.h"
 
 namespace tdvo {

@@ -7,15 +7,16 @@
 #include <limits>
 #include <random>
 
-#include "common/error.h"
-#include "common/file_io.h"
-#include "common/image.h"
-#include "common/mesh_io.h"
-#include "common/obj_io.h"
-#include "common/progress.h"
-#include "common/rasteriser.h"
-#include "common/sample_mesh.h"
-#include "common/sequence.h"
+#include "common/core/error.h"
+#include "common/core/file_io.h"
+#include "common/core/mesh_io.h"
+#include "common/core/obj_io.h"
+#include "common/core/progress.h"
+#include "common/core/sequence.h"
+#include "common/media/png_io.h"
+#include "common/views/image.h"
+#include "common/views/rasteriser.h"
+#include "tools/eval/sample_mesh.h"
 #include "tools/multiview/importers.h"
 
 namespace tdvo {

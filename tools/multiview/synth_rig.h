@@ -1,5 +1,5 @@
 // The synthetic capture rig: renders a mesh sequence with a stable procedural surface texture
-// into N calibrated cameras and writes a dataset (common/dataset.h) with exact ground truth:
+// into N calibrated cameras and writes a dataset (common/media/dataset.h) with exact ground truth:
 // per-camera image sequences, masks (the rasteriser's coverage of the ground-truth mesh),
 // calibration, background images and the meshes themselves.
 #pragma once
@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "common/camera.h"
-#include "common/config.h"
-#include "common/dataset.h"
+#include "common/core/config.h"
+#include "common/media/dataset.h"
+#include "common/views/camera.h"
 
 namespace tdvo {
 

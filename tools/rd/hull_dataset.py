@@ -16,7 +16,7 @@ uses tools/rd/recon_dataset.py):
    dropped, holes are filled and the mask is dilated by `--dilate` pixels (the calibration is
    approximate: a hull carved from undilated masks loses parts of the object).
 2. Voxel carving: a voxel is kept when its centre projects (OpenCV camera model with lens
-   distortion, as common/camera.h) inside the image and the silhouette of every camera. A first
+   distortion, as common/views/camera.h) inside the image and the silhouette of every camera. A first
    pass over `--search-box` at 4 x `--voxel` finds the object; the second carves its bounding
    box (grown by 2 coarse voxels) at `--voxel`. Only the largest 26-connected part is kept.
 3. Surface: marching cubes (scikit-image) at level 0.5 of the occupancy smoothed by a Gaussian of

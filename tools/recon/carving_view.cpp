@@ -4,7 +4,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
-#include "common/error.h"
+#include "common/core/error.h"
 
 namespace tdvo {
 

@@ -17,8 +17,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/camera.h"
-#include "common/image.h"
+#include "common/views/camera.h"
+#include "common/views/image.h"
 
 namespace tdvo {
 

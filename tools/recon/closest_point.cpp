@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "common/camera.h"
-#include "common/error.h"
+#include "common/core/error.h"
+#include "common/views/camera.h"
 
 namespace tdvo {
 

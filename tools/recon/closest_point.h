@@ -1,6 +1,6 @@
 // Closest points on a triangle mesh: the correspondence search of the tracking's fitting
 // (which point of the target surface is nearest to a vertex, and which point of the deforming
-// mesh is nearest to a target sample). common/metrics.h answers only "how far"; here the point,
+// mesh is nearest to a target sample). tools/eval/metrics.h answers only "how far"; here the point,
 // its triangle and its barycentric coordinates are needed.
 #pragma once
 
@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/mesh.h"
+#include "common/core/mesh.h"
 
 namespace tdvo {
 

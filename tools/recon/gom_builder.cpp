@@ -2,7 +2,7 @@
 
 #include <chrono>
 
-#include "common/metrics.h"
+#include "tools/eval/metrics.h"
 #include "tools/recon/surface_processing.h"
 
 namespace tdvo {

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "common/mesh.h"
+#include "common/core/mesh.h"
 #include "tools/recon/recon_params.h"
 #include "tools/recon/tracking.h"
 

@@ -6,8 +6,9 @@
 //   3dvo-recon --InputMeshPattern=seq/%04d.obj --FrameCount=10 -o OUT   (tracking only)
 #include <cstdio>
 
-#include "common/app.h"
-#include "common/config.h"
+#include "common/core/app.h"
+#include "common/core/config.h"
+#include "common/media/media_version.h"
 #include "tools/recon/recon_pipeline.h"
 
 int main(int argc, char** argv) {
@@ -16,6 +17,7 @@ int main(int argc, char** argv) {
     tdvo::OptionTable table("3dvo-recon",
                             "3dvo-recon [-c recon.cfg] -i INPUT -o DIR [--Key=value ...]");
     tdvo::addReconOptions(table, params);
+    table.addVersionLines(tdvo::mediaLibraryVersions());
     if (!table.parseCommandLine(argc, argv)) return 0;
     tdvo::checkReconParams(params);
     std::printf("# 3dvo-recon effective configuration\n%s", table.effectiveConfig().c_str());

@@ -26,7 +26,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "common/mesh.h"
+#include "common/core/mesh.h"
 
 namespace tdvo {
 

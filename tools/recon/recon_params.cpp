@@ -3,8 +3,8 @@
 #include <OpenMesh/Core/System/config.h>
 #include <opencv2/core/version.hpp>
 
-#include "common/error.h"
-#include "common/sequence.h"
+#include "common/core/error.h"
+#include "common/core/sequence.h"
 
 namespace tdvo {
 

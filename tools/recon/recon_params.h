@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "common/config.h"
+#include "common/core/config.h"
 #include "tools/recon/silhouettes.h"
 #include "tools/recon/surface_processing.h"
 #include "tools/recon/tracking.h"

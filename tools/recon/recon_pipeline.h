@@ -2,7 +2,7 @@
 // reconstruction and GOM building, and the outputs in the Output folder:
 //
 //   %04d.obj            the time-consistent mesh sequence (OutputMeshPattern), from 0
-//   goms.txt            the GOM list: "first count" per line (common/gom_list.h)
+//   goms.txt            the GOM list: "first count" per line (common/core/gom_list.h)
 //   encode.cfg          3dvo-enc input keys for the whole sequence as one stream: GOMSize when
 //                       the GOMs have one length, else GOMListFile naming goms.txt
 //   encode/gom_%04d.cfg 3dvo-enc keys coding one GOM as a stream of its own
@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "common/gom_list.h"
+#include "common/core/gom_list.h"
 #include "tools/recon/recon_params.h"
 
 namespace tdvo {

@@ -5,8 +5,9 @@
 #include <cmath>
 #include <sstream>
 
-#include "common/error.h"
-#include "common/video_reader.h"
+#include "common/core/error.h"
+#include "common/media/png_io.h"
+#include "common/media/video_reader.h"
 #include "tools/multiview/importers.h"
 #include "tools/recon/silhouettes.h"
 #include "tools/recon/surface_processing.h"

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "common/dataset.h"
+#include "common/media/dataset.h"
 #include "tools/recon/recon_params.h"
 #include "tools/recon/visual_hull.h"
 

@@ -6,7 +6,7 @@
 #include <opencv2/video/background_segm.hpp>
 #include <opencv2/video/tracking.hpp>
 
-#include "common/error.h"
+#include "common/core/error.h"
 
 namespace tdvo {
 

@@ -22,7 +22,7 @@
 #include <array>
 #include <memory>
 
-#include "common/image.h"
+#include "common/views/image.h"
 
 namespace tdvo {
 

@@ -6,7 +6,7 @@
 
 #include <cstddef>
 
-#include "common/mesh.h"
+#include "common/core/mesh.h"
 
 namespace tdvo {
 

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <utility>
 
-#include "common/camera.h"
-#include "common/error.h"
-#include "common/metrics.h"
+#include "common/core/error.h"
+#include "common/views/camera.h"
+#include "tools/eval/metrics.h"
 #include "tools/recon/closest_point.h"
 
 namespace tdvo {

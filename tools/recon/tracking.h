@@ -27,7 +27,7 @@
 #include <memory>
 #include <vector>
 
-#include "common/mesh.h"
+#include "common/core/mesh.h"
 
 namespace tdvo {
 

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <unordered_map>
 
-#include "common/error.h"
+#include "common/core/error.h"
 #include "tools/recon/marching_cubes.h"
 
 namespace tdvo {

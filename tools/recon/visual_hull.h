@@ -21,7 +21,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "common/mesh.h"
+#include "common/core/mesh.h"
 #include "tools/recon/carving_view.h"
 
 namespace tdvo {

@@ -6,8 +6,8 @@
 #include <limits>
 #include <sstream>
 
-#include "common/error.h"
-#include "common/file_io.h"
+#include "common/core/error.h"
+#include "common/core/file_io.h"
 
 namespace tdvo {
 

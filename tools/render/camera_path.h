@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "common/camera.h"
-#include "common/dataset.h"
-#include "common/mesh.h"
+#include "common/core/mesh.h"
+#include "common/media/dataset.h"
+#include "common/views/camera.h"
 
 namespace tdvo {
 
@@ -38,8 +38,8 @@ struct OrbitParams {
 std::vector<Camera> orbitPath(const Dataset& dataset, const Vec3d& centre, const Vec3d& up,
                               const Camera& intrinsics, const OrbitParams& params);
 
-// Poses from a file. A `.json` file is read as a dataset (common/dataset.h) and its cameras are
-// the poses, intrinsics and distortion included. Any other file is text: one pose per line,
+// Poses from a file. A `.json` file is read as a dataset (common/media/dataset.h) and its cameras
+// are the poses, intrinsics and distortion included. Any other file is text: one pose per line,
 // `eye_x eye_y eye_z  target_x target_y target_z` with an optional `up_x up_y up_z` (default
 // `up`), camera looking from the eye at the target with the given intrinsics; blank lines and
 // `#` comments are skipped. Errors name the file and line.

@@ -5,9 +5,10 @@
 #include <filesystem>
 #include <optional>
 
-#include "common/file_io.h"
-#include "common/image.h"
-#include "common/progress.h"
+#include "common/core/file_io.h"
+#include "common/core/progress.h"
+#include "common/media/png_io.h"
+#include "common/views/image.h"
 
 namespace tdvo {
 

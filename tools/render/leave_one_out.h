@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "common/dataset.h"
+#include "common/media/dataset.h"
 #include "tools/render/view_renderer.h"
 
 namespace tdvo {
@@ -22,7 +22,7 @@ struct LeaveOneOutRow {
 // Evaluates every camera of `dataset` (frame indices `frames`) as held-out camera. The PSNR
 // mask is the camera's silhouette (mask files or alpha) when it has one, else the pixels the
 // rendered mesh covers. When `renderFolder` is not empty the held-out renders are written there
-// as <camera>/<frame index %04d>.png (an output folder: common/file_io.h, OutputFolder; a
+// as <camera>/<frame index %04d>.png (an output folder: common/core/file_io.h, OutputFolder; a
 // non-empty one is refused unless `overwrite`). Progress on stderr when it is a terminal.
 std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const std::vector<int>& frames,
                                         const RenderOptions& options,

@@ -13,13 +13,15 @@
 #include <optional>
 #include <sstream>
 
-#include "common/app.h"
-#include "common/config.h"
-#include "common/error.h"
-#include "common/file_io.h"
-#include "common/gom_list.h"
-#include "common/progress.h"
-#include "common/sequence.h"
+#include "common/core/app.h"
+#include "common/core/config.h"
+#include "common/core/error.h"
+#include "common/core/file_io.h"
+#include "common/core/gom_list.h"
+#include "common/core/progress.h"
+#include "common/core/sequence.h"
+#include "common/media/media_version.h"
+#include "common/media/png_io.h"
 #include "tools/multiview/importers.h"
 #include "tools/render/camera_path.h"
 #include "tools/render/leave_one_out.h"
@@ -250,6 +252,7 @@ int main(int argc, char** argv) {
     OptionTable table("3dvo-render",
                       "3dvo-render -i DATASET [-o OUT] [-c render.cfg] [--Key=value ...]");
     p.registerOptions(table);
+    table.addVersionLines(mediaLibraryVersions());
     if (!table.parseCommandLine(argc, argv)) return 0;
     check(!p.input.empty(), "no input dataset given (-i DATASET); see --help");
     p.render.fallbackColour = parseColour(p.fallbackColour, "FallbackColour");

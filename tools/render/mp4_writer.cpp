@@ -11,10 +11,10 @@ extern "C" {
 #include <cmath>
 #include <filesystem>
 
-#include "common/error.h"
-#include "common/ffmpeg_log.h"
-#include "common/file_io.h"
-#include "common/yuv.h"
+#include "common/core/error.h"
+#include "common/core/file_io.h"
+#include "common/media/ffmpeg_log.h"
+#include "common/media/yuv.h"
 
 namespace tdvo {
 
@@ -81,7 +81,7 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, double fram
   check(crf >= 0 && crf <= 51, path + ": the CRF must be in 0..51");
   s.partial = s.staged.stage(path);
   // x264 reports its settings and statistics at the info level, and errors come through
-  // exceptions: FFmpeg's own lines are routed away (common/ffmpeg_log.h).
+  // exceptions: FFmpeg's own lines are routed away (common/media/ffmpeg_log.h).
   routeFfmpegLog();
   int r = avformat_alloc_output_context2(&s.format, nullptr, "mp4", s.partial.c_str());
   check(r >= 0 && s.format, path + ": cannot set up an MP4 file: " + avError(r));

@@ -1,16 +1,16 @@
 // Writing rendered frames as an H.264 MP4 through FFmpeg (libavformat's mp4 muxer, libavcodec's
 // libx264 encoder), for viewing free-viewpoint output in any player.
 //
-// Frames are converted to YUV 4:2:0 with common/yuv.h (BT.601, limited range, tagged as such in
-// the stream). 4:2:0 needs an even size: an odd width or height gets one more column or row,
-// a copy of the last one. The file is written under a temporary name and renamed by finish(),
-// so a failed run leaves no half-written MP4.
+// Frames are converted to YUV 4:2:0 with common/media/yuv.h (BT.601, limited range, tagged as such
+// in the stream). 4:2:0 needs an even size: an odd width or height gets one more column or row, a
+// copy of the last one. The file is written under a temporary name and renamed by finish(), so a
+// failed run leaves no half-written MP4.
 #pragma once
 
 #include <memory>
 #include <string>
 
-#include "common/image.h"
+#include "common/views/image.h"
 
 namespace tdvo {
 

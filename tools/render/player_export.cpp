@@ -8,9 +8,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "common/error.h"
-#include "common/file_io.h"
-#include "common/progress.h"
+#include "common/core/error.h"
+#include "common/core/file_io.h"
+#include "common/core/progress.h"
+#include "common/media/png_io.h"
 #include "tools/render/camera_path.h"
 
 namespace tdvo {

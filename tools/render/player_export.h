@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "common/dataset.h"
+#include "common/media/dataset.h"
 #include "tools/render/view_renderer.h"
 
 namespace tdvo {

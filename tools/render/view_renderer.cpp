@@ -6,9 +6,9 @@
 #include <limits>
 #include <thread>
 
-#include "common/error.h"
-#include "common/rasteriser.h"
-#include "common/view_weights.h"
+#include "common/core/error.h"
+#include "common/views/rasteriser.h"
+#include "tools/eval/view_weights.h"
 
 namespace tdvo {
 

@@ -11,21 +11,21 @@
 //     the texels that take part (their bilinear weights renormalised);
 //   - camera i sees P when at least one texel with non-zero bilinear weight takes part.
 // The colour is Σ w_i · sample_i over the cameras that see P, with the view-dependent weights of
-// common/view_weights.h. Where no camera sees P the fallback applies: `nearest` takes the sample
-// of the camera with the largest weight among those where P projects inside the image and inside
-// the mask, ignoring the depth test (hidden surfaces get the colour of what hides them rather
-// than a hole), and where even that fails the flat fallback colour; `colour` uses the flat colour
-// right away.
+// tools/eval/view_weights.h. Where no camera sees P the fallback applies: `nearest` takes the
+// sample of the camera with the largest weight among those where P projects inside the image and
+// inside the mask, ignoring the depth test (hidden surfaces get the colour of what hides them
+// rather than a hole), and where even that fails the flat fallback colour; `colour` uses the flat
+// colour right away.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <vector>
 
-#include "common/camera.h"
-#include "common/dataset.h"
-#include "common/image.h"
-#include "common/mesh.h"
+#include "common/core/mesh.h"
+#include "common/media/dataset.h"
+#include "common/views/camera.h"
+#include "common/views/image.h"
 
 namespace tdvo {
 

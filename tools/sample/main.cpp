@@ -1,12 +1,13 @@
 // 3dvo-sample: writes the bundled default sample, a deforming blob mesh sequence, as OBJ frames.
 #include <cstdio>
 
-#include "common/app.h"
-#include "common/config.h"
-#include "common/file_io.h"
-#include "common/obj_io.h"
-#include "common/sample_mesh.h"
-#include "common/sequence.h"
+#include "common/core/app.h"
+#include "common/core/config.h"
+#include "common/core/file_io.h"
+#include "common/core/obj_io.h"
+#include "common/core/sequence.h"
+#include "common/media/media_version.h"
+#include "tools/eval/sample_mesh.h"
 
 using namespace tdvo;
 
@@ -26,6 +27,7 @@ int main(int argc, char** argv) {
     table.add("Subdivisions", subdivisions, 0, 8,
               "icosphere subdivisions (10*4^s+2 vertices, 20*4^s triangles)");
     table.add("FrameCount", frameCount, 1, 100000, "number of frames (one loop of the motion)");
+    table.addVersionLines(mediaLibraryVersions());
     if (!table.parseCommandLine(argc, argv)) return 0;
     check(!outputDir.empty(), "no output folder given (-o DIR; see --help)");
     checkFramePattern(pattern, "OutputMeshPattern");

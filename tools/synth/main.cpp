@@ -5,8 +5,9 @@
 //   3dvo-synth -o DIR --InputMeshPattern=samba/mesh_%04d.obj.gz --Cameras=12 --Layout=dome
 #include <cstdio>
 
-#include "common/app.h"
-#include "common/config.h"
+#include "common/core/app.h"
+#include "common/core/config.h"
+#include "common/media/media_version.h"
 #include "tools/multiview/synth_rig.h"
 
 int main(int argc, char** argv) {
@@ -14,6 +15,7 @@ int main(int argc, char** argv) {
     tdvo::SynthParams params;
     tdvo::OptionTable table("3dvo-synth", "3dvo-synth -o DIR [-c rig.cfg] [--Key=value ...]");
     tdvo::addSynthOptions(table, params);
+    table.addVersionLines(tdvo::mediaLibraryVersions());
     if (!table.parseCommandLine(argc, argv)) return 0;
     tdvo::check(!params.output.empty(), "no output folder given (-o DIR); see --help");
     const tdvo::Dataset d = tdvo::writeSyntheticDataset(params);

@@ -115,7 +115,7 @@ def read_cfg_file(path):
 
 
 def frame_path(pattern, number):
-    """Frame `number` of a printf pattern with one %d, %Nd or %0Nd (as common/sequence.h)."""
+    """Frame `number` of a printf pattern with one %d, %Nd or %0Nd (as common/core/sequence.h)."""
     return pattern % number
 
 

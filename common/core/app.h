@@ -1,0 +1,34 @@
+// The shared frame of every 3DVO command-line app: errors become one line on stderr,
+// "<app>: error: <message>", and exit code 1; internal errors (bugs) exit with code 2; SIGINT,
+// SIGTERM and SIGHUP remove the run's unfinished output files first (interrupt.h).
+#pragma once
+
+#include <cstdio>
+#include <exception>
+#include <new>
+#include <stdexcept>
+
+#include "common/core/error.h"
+#include "common/core/interrupt.h"
+
+namespace tdvo {
+
+template <class Body>
+int runApp(const char* app, Body body) {
+  // Before any thread exists: an interrupted run removes its unfinished output files.
+  installInterruptCleanup();
+  try {
+    return body();
+  } catch (const Error& e) {
+    std::fprintf(stderr, "%s: error: %s\n", app, e.what());
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "%s: error: out of memory\n", app);
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: internal error (please report): %s\n", app, e.what());
+    return 2;
+  }
+}
+
+}  // namespace tdvo

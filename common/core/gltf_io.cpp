@@ -1,0 +1,841 @@
+#include "common/core/gltf_io.h"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <utility>
+
+#include "common/core/error.h"
+#include "common/core/file_io.h"
+#include "common/core/tiny_gltf_config.h"
+
+namespace tdvo {
+
+namespace {
+
+// ---- Limits checked before tinygltf sees the JSON ----
+
+// Counts the JSON's values and depth without building it (nlohmann's SAX interface).
+class JsonLimits : public nlohmann::json_sax<nlohmann::json> {
+ public:
+  std::string error;
+  bool null() override { return value(); }
+  bool boolean(bool) override { return value(); }
+  bool number_integer(number_integer_t) override { return value(); }
+  bool number_unsigned(number_unsigned_t) override { return value(); }
+  bool number_float(number_float_t, const string_t&) override { return value(); }
+  bool string(string_t&) override { return value(); }
+  bool binary(binary_t&) override { return value(); }
+  bool start_object(std::size_t) override { return open(); }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return close(); }
+  bool start_array(std::size_t) override { return open(); }
+  bool end_array() override { return close(); }
+  bool parse_error(std::size_t position, const std::string&,
+                   const nlohmann::detail::exception& e) override {
+    error = "JSON byte " + std::to_string(position) + ": " + e.what();
+    return false;
+  }
+
+ private:
+  bool value() {
+    if (++values_ > kMaxGltfJsonValues) {
+      error = "more than " + std::to_string(kMaxGltfJsonValues) + " JSON values";
+      return false;
+    }
+    return true;
+  }
+  bool open() {
+    if (++depth_ > kMaxGltfJsonDepth) {
+      error = "JSON nested more than " + std::to_string(kMaxGltfJsonDepth) + " levels deep";
+      return false;
+    }
+    return value();
+  }
+  bool close() {
+    --depth_;
+    return true;
+  }
+  size_t values_ = 0, depth_ = 0;
+};
+
+uint32_t le32(const uint8_t* p) {
+  return uint32_t{p[0]} | uint32_t{p[1]} << 8 | uint32_t{p[2]} << 16 | uint32_t{p[3]} << 24;
+}
+
+// ---- tinygltf's file access: ours, with limits ----
+
+struct Files {
+  std::string name;                        // the glTF file, for messages
+  std::string folder;                      // where its external buffers are ("" = none may be read)
+  std::string error;                       // our message, preferred to tinygltf's
+  std::set<std::pair<dev_t, ino_t>> read;  // files read, each once
+};
+
+bool fileExists(const std::string& path, void* user) {
+  const Files& files = *static_cast<Files*>(user);
+  if (files.folder.empty()) return false;
+  // Only files in the glTF file's folder (tinygltf also tries the working directory).
+  if (path.compare(0, files.folder.size() + 1, files.folder + "/") != 0) return false;
+  struct stat st;
+  return ::stat(path.c_str(), &st) == 0;
+}
+
+std::string expandPath(const std::string& path, void*) {
+  return path;
+}
+
+bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                   void* user) {
+  Files& files = *static_cast<Files*>(user);
+  try {
+    struct stat st;
+    check(::stat(path.c_str(), &st) == 0, path + ": cannot open");
+    check(files.read.insert({st.st_dev, st.st_ino}).second,
+          path + ": named by two buffers (each buffer file is read once)");
+    *out = readFileBytes(path, kMaxBinaryFileBytes, "a glTF buffer");
+    return true;
+  } catch (const Error& e) {
+    files.error = e.what();
+    if (err) *err = e.what();
+    return false;
+  }
+}
+
+bool writeWholeFile(std::string* err, const std::string&, const std::vector<unsigned char>&,
+                    void*) {
+  if (err) *err = "not written";
+  return false;
+}
+
+// Images are not read (3DVO codes geometry).
+bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
+                 const unsigned char*, int, void*) {
+  return true;
+}
+
+// The first line of a (multi-line) tinygltf message.
+std::string firstLine(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == '\r'))
+    s.pop_back();
+  const size_t nl = s.find('\n');
+  if (nl != std::string::npos) s = s.substr(0, nl);
+  return s;
+}
+
+// ---- Accessors, read with our own bounds checks ----
+
+struct View {
+  const uint8_t* data = nullptr;
+  size_t count = 0, stride = 0, components = 0;
+  int componentType = 0;
+  bool normalized = false;
+
+  double get(size_t i, size_t c) const {
+    const uint8_t* p = data + i * stride;
+    switch (componentType) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+        float v;
+        std::memcpy(&v, p + 4 * c, 4);
+        return v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+        const double v = p[c];
+        return normalized ? v / 255.0 : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_BYTE: {
+        const double v = static_cast<int8_t>(p[c]);
+        return normalized ? std::max(v / 127.0, -1.0) : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        uint16_t v;
+        std::memcpy(&v, p + 2 * c, 2);
+        return normalized ? v / 65535.0 : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        int16_t v;
+        std::memcpy(&v, p + 2 * c, 2);
+        return normalized ? std::max(v / 32767.0, -1.0) : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+        uint32_t v;
+        std::memcpy(&v, p + 4 * c, 4);
+        return v;
+      }
+    }
+    return 0;
+  }
+  // Value f of the accessor's values taken as one flat list.
+  double flat(size_t f) const { return get(f / components, f % components); }
+  uint32_t index(size_t i) const {
+    const uint8_t* p = data + i * stride;
+    if (componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) return p[0];
+    if (componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    uint32_t v;
+    std::memcpy(&v, p, 4);
+    return v;
+  }
+};
+
+size_t componentBytes(int type) {
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return 4;
+  }
+  return 0;
+}
+
+size_t typeComponents(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+      return 1;
+    case TINYGLTF_TYPE_VEC2:
+      return 2;
+    case TINYGLTF_TYPE_VEC3:
+      return 3;
+    case TINYGLTF_TYPE_VEC4:
+      return 4;
+  }
+  return 0;
+}
+
+float toFloat(double v) {
+  return static_cast<float>(v);
+}
+
+}  // namespace
+
+struct GltfFile::Impl {
+  std::string name;
+  tinygltf::Model model;
+  uint64_t inputBytes = 0;     // the file's bytes
+  uint64_t bufferBytes = 0;    // all buffers' bytes
+  std::vector<int> meshNodes;  // nodes with a mesh; without nodes, -1 - mesh index
+  bool animated = false;
+  std::vector<float> times;
+  std::map<int, std::vector<float>> inputs;         // sampler input accessor -> key times
+  std::map<int, int> weightsSampler, scaleSampler;  // node -> sampler of animation 0
+
+  [[noreturn]] void fail(const std::string& what) const { throw Error(name + ": " + what); }
+
+  View view(int index, const std::string& what) const {
+    if (index < 0 || static_cast<size_t>(index) >= model.accessors.size())
+      fail(what + ": accessor " + std::to_string(index) + " does not exist");
+    const tinygltf::Accessor& a = model.accessors[static_cast<size_t>(index)];
+    const std::string where = what + " (accessor " + std::to_string(index) + ")";
+    if (a.sparse.isSparse) fail(where + ": sparse accessors are not read");
+    View v;
+    v.count = a.count;
+    v.components = typeComponents(a.type);
+    v.componentType = a.componentType;
+    v.normalized = a.normalized;
+    const size_t bytes = componentBytes(a.componentType);
+    if (v.components == 0 || bytes == 0) fail(where + ": unsupported type");
+    if (a.count == 0) return v;
+    if (a.bufferView < 0 || static_cast<size_t>(a.bufferView) >= model.bufferViews.size())
+      fail(where + ": no bufferView (only accessors with data are read)");
+    const tinygltf::BufferView& bv = model.bufferViews[static_cast<size_t>(a.bufferView)];
+    if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= model.buffers.size())
+      fail(where + ": bufferView " + std::to_string(a.bufferView) + " names no buffer");
+    const std::vector<unsigned char>& data = model.buffers[static_cast<size_t>(bv.buffer)].data;
+    if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset)
+      fail(where + ": bufferView " + std::to_string(a.bufferView) + " runs past its buffer");
+    const size_t element = v.components * bytes;
+    v.stride = bv.byteStride ? bv.byteStride : element;
+    if (v.stride < element) fail(where + ": byteStride smaller than an element");
+    // byteOffset + stride * (count - 1) + element <= byteLength, without overflow.
+    const uint64_t length = bv.byteLength;
+    if (a.byteOffset > length || element > length - a.byteOffset ||
+        (a.count - 1) > (length - a.byteOffset - element) / v.stride)
+      fail(where + ": " + std::to_string(a.count) + " elements run past bufferView " +
+           std::to_string(a.bufferView));
+    v.data = data.data() + bv.byteOffset + a.byteOffset;
+    return v;
+  }
+
+  void load() {
+    // Extensions that change what accessors hold (Draco or meshopt compression) are not read;
+    // quantized positions (KHR_mesh_quantization) are plain accessors of integer types.
+    for (const std::string& e : model.extensionsRequired)
+      if (e != "KHR_mesh_quantization")
+        fail("the file requires the extension " + e + ", which is not read");
+    for (const tinygltf::Buffer& b : model.buffers)
+      bufferBytes += b.data.size();
+    for (size_t n = 0; n < model.nodes.size(); ++n) {
+      const int mesh = model.nodes[n].mesh;
+      if (mesh < 0) continue;
+      if (static_cast<size_t>(mesh) >= model.meshes.size())
+        fail("node " + std::to_string(n) + ": mesh " + std::to_string(mesh) + " does not exist");
+      meshNodes.push_back(static_cast<int>(n));
+    }
+    if (model.nodes.empty())
+      for (size_t m = 0; m < model.meshes.size(); ++m)
+        meshNodes.push_back(-1 - static_cast<int>(m));
+    if (meshNodes.empty()) fail("no meshes");
+    if (model.animations.empty()) return;
+    animated = true;
+    const tinygltf::Animation& anim = model.animations[0];
+    uint64_t keys = 0;
+    for (size_t c = 0; c < anim.channels.size(); ++c) {
+      const tinygltf::AnimationChannel& ch = anim.channels[c];
+      const std::string what = "animation 0 channel " + std::to_string(c);
+      if (ch.sampler < 0 || static_cast<size_t>(ch.sampler) >= anim.samplers.size())
+        fail(what + ": sampler " + std::to_string(ch.sampler) + " does not exist");
+      const tinygltf::AnimationSampler& s = anim.samplers[static_cast<size_t>(ch.sampler)];
+      if (s.interpolation != "STEP" && s.interpolation != "LINEAR" &&
+          s.interpolation != "CUBICSPLINE")
+        fail(what + ": unknown interpolation '" + s.interpolation + "'");
+      if (!inputs.count(s.input)) {
+        const View in = view(s.input, what + " input");
+        if (in.components != 1 || in.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+          fail(what + " input: key times must be float scalars");
+        // Inputs sharing their data cannot make more keys than the buffers hold.
+        keys += in.count;
+        if (keys * 4 > bufferBytes) fail(what + ": key times share their data");
+        if (in.count == 0) fail(what + " input: no key times");
+        std::vector<float> t(in.count);
+        for (size_t i = 0; i < in.count; ++i) {
+          t[i] = toFloat(in.get(i, 0));
+          if (!std::isfinite(t[i]) || (i > 0 && !(t[i] > t[i - 1])))
+            fail(what + " input: key times must be finite and increasing (key " +
+                 std::to_string(i) + ")");
+        }
+        inputs.emplace(s.input, std::move(t));
+      }
+      if (ch.target_path == "weights") weightsSampler[ch.target_node] = ch.sampler;
+      if (ch.target_path == "scale") scaleSampler[ch.target_node] = ch.sampler;
+    }
+    for (const auto& [index, t] : inputs)
+      times.insert(times.end(), t.begin(), t.end());
+    std::sort(times.begin(), times.end());
+    times.erase(std::unique(times.begin(), times.end()), times.end());
+    if (times.empty()) fail("animation 0 has no channels");
+    // The work of the frames: keyframes x the vertices a frame can have (and its mesh nodes,
+    // visited even when empty), bounded by the input.
+    uint64_t vertices = meshNodes.size();
+    for (int n : meshNodes) {
+      const int m = n < 0 ? -1 - n : model.nodes[static_cast<size_t>(n)].mesh;
+      for (const tinygltf::Primitive& prim : model.meshes[static_cast<size_t>(m)].primitives) {
+        const auto pos = prim.attributes.find("POSITION");
+        if (pos != prim.attributes.end() && pos->second >= 0 &&
+            static_cast<size_t>(pos->second) < model.accessors.size())
+          vertices += model.accessors[static_cast<size_t>(pos->second)].count;
+      }
+    }
+    const uint64_t budget = kMaxGltfVertexFramesPerByte * (inputBytes + bufferBytes);
+    if (vertices > 0 && times.size() > budget / vertices)
+      fail(std::to_string(times.size()) + " keyframes x " + std::to_string(vertices) +
+           " vertices: more than " + std::to_string(kMaxGltfVertexFramesPerByte) +
+           " vertex-frames per byte of the file and its buffers");
+  }
+
+  // The value of sampler `s` of animation 0 at time t: `width` values per key.
+  std::vector<double> sample(int s, float t, size_t width, const std::string& what) const {
+    const tinygltf::AnimationSampler& sampler =
+        model.animations[0].samplers[static_cast<size_t>(s)];
+    const std::vector<float>& keys = inputs.at(sampler.input);
+    const bool cubic = sampler.interpolation == "CUBICSPLINE";
+    const View out = view(sampler.output, what + " output");
+    if (width == 0 || out.count * out.components != keys.size() * width * (cubic ? 3 : 1))
+      fail(what + " output: " + std::to_string(out.count) + " values of " +
+           std::to_string(out.components) + " components for " + std::to_string(keys.size()) +
+           " keys of " + std::to_string(width));
+    auto value = [&](size_t key, size_t c) {
+      return out.flat((cubic ? key * 3 + 1 : key) * width + c);
+    };
+    std::vector<double> v(width);
+    size_t i = static_cast<size_t>(std::upper_bound(keys.begin(), keys.end(), t) - keys.begin());
+    if (i == 0 || i == keys.size() || keys[i - 1] == t || sampler.interpolation == "STEP") {
+      const size_t key = i == 0 ? 0 : i - 1;
+      for (size_t c = 0; c < width; ++c)
+        v[c] = value(key, c);
+      return v;
+    }
+    const size_t k = i - 1;
+    const double dt = double{keys[k + 1]} - keys[k];
+    const double u = (t - keys[k]) / dt;
+    for (size_t c = 0; c < width; ++c) {
+      if (!cubic) {
+        v[c] = value(k, c) * (1 - u) + value(k + 1, c) * u;
+        continue;
+      }
+      const double p0 = value(k, c), p1 = value(k + 1, c);
+      const double m0 = dt * out.flat((k * 3 + 2) * width + c);
+      const double m1 = dt * out.flat(((k + 1) * 3) * width + c);
+      const double u2 = u * u, u3 = u2 * u;
+      v[c] = (2 * u3 - 3 * u2 + 1) * p0 + (u3 - 2 * u2 + u) * m0 + (-2 * u3 + 3 * u2) * p1 +
+             (u3 - u2) * m1;
+    }
+    return v;
+  }
+
+  Mesh frame(size_t k) const {
+    const float t = animated ? times.at(k) : 0.0f;
+    struct Shown {
+      int mesh;
+      std::vector<double> weights;
+    };
+    std::vector<Shown> shown;
+    for (int n : meshNodes) {
+      if (n < 0) {
+        const tinygltf::Mesh& m = model.meshes[static_cast<size_t>(-1 - n)];
+        shown.push_back({-1 - n, m.weights});
+        continue;
+      }
+      const tinygltf::Node& node = model.nodes[static_cast<size_t>(n)];
+      const std::string what = "node " + std::to_string(n);
+      std::vector<double> scale = node.scale;
+      if (animated && scaleSampler.count(n))
+        scale = sample(scaleSampler.at(n), t, 3, what + " scale");
+      if (scale.size() == 3 && scale[0] == 0 && scale[1] == 0 && scale[2] == 0) continue;
+      const tinygltf::Mesh& m = model.meshes[static_cast<size_t>(node.mesh)];
+      const size_t targets = m.primitives.empty() ? 0 : m.primitives[0].targets.size();
+      std::vector<double> weights = !node.weights.empty() ? node.weights : m.weights;
+      if (animated && weightsSampler.count(n))
+        weights = sample(weightsSampler.at(n), t, targets, what + " weights");
+      shown.push_back({node.mesh, std::move(weights)});
+    }
+    // The frame's size first, bounded by the buffers' bytes (shared data cannot inflate it).
+    uint64_t vertices = 0, corners = 0;
+    for (const Shown& s : shown) {
+      const tinygltf::Mesh& m = model.meshes[static_cast<size_t>(s.mesh)];
+      for (size_t p = 0; p < m.primitives.size(); ++p) {
+        const tinygltf::Primitive& prim = m.primitives[p];
+        const std::string what =
+            "mesh " + std::to_string(s.mesh) + " primitive " + std::to_string(p);
+        if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES)
+          fail(what + ": mode " + std::to_string(prim.mode) + " (only triangles are read)");
+        const auto pos = prim.attributes.find("POSITION");
+        if (pos == prim.attributes.end()) fail(what + ": no POSITION");
+        const View v = view(pos->second, what + " POSITION");
+        vertices += v.count;
+        corners += prim.indices >= 0 ? view(prim.indices, what + " indices").count : v.count;
+        if (prim.targets.size() != m.primitives[0].targets.size())
+          fail(what + ": " + std::to_string(prim.targets.size()) +
+               " morph targets, primitive 0 has " + std::to_string(m.primitives[0].targets.size()));
+      }
+    }
+    // Morph-target vertices added, likewise (targets sharing their data cannot multiply the work).
+    uint64_t moved = 0;
+    for (const Shown& s : shown) {
+      const tinygltf::Mesh& m = model.meshes[static_cast<size_t>(s.mesh)];
+      for (const tinygltf::Primitive& prim : m.primitives)
+        for (size_t j = 0; j < prim.targets.size() && j < s.weights.size(); ++j) {
+          const auto tp = prim.targets[j].find("POSITION");
+          if (s.weights[j] != 0 && tp != prim.targets[j].end() && tp->second >= 0 &&
+              static_cast<size_t>(tp->second) < model.accessors.size())
+            moved += model.accessors[static_cast<size_t>(tp->second)].count;
+        }
+    }
+    if (moved * 12 > bufferBytes)
+      fail("frame " + std::to_string(k) + ": its morph targets move " + std::to_string(moved) +
+           " vertices, more than its buffers' " + std::to_string(bufferBytes) +
+           " bytes hold (targets sharing their data)");
+    if (vertices * 12 > bufferBytes || corners > bufferBytes)
+      fail("frame " + std::to_string(k) + ": " + std::to_string(vertices) + " vertices and " +
+           std::to_string(corners / 3) + " triangles, more than its buffers' " +
+           std::to_string(bufferBytes) + " bytes hold (meshes sharing their data)");
+    Mesh mesh;
+    mesh.positions.reserve(vertices);
+    mesh.triangles.reserve(corners / 3);
+    for (const Shown& s : shown) {
+      const tinygltf::Mesh& m = model.meshes[static_cast<size_t>(s.mesh)];
+      for (size_t p = 0; p < m.primitives.size(); ++p) {
+        const tinygltf::Primitive& prim = m.primitives[p];
+        const std::string what =
+            "mesh " + std::to_string(s.mesh) + " primitive " + std::to_string(p);
+        const View v = view(prim.attributes.at("POSITION"), what + " POSITION");
+        if (v.components != 3) fail(what + " POSITION: not VEC3");
+        const size_t base = mesh.positions.size();
+        for (size_t i = 0; i < v.count; ++i)
+          mesh.positions.push_back({v.get(i, 0), v.get(i, 1), v.get(i, 2)});
+        for (size_t j = 0; j < prim.targets.size(); ++j) {
+          const double w = j < s.weights.size() ? s.weights[j] : 0.0;
+          const auto tp = prim.targets[j].find("POSITION");
+          if (w == 0 || tp == prim.targets[j].end()) continue;
+          const std::string twhat = what + " target " + std::to_string(j);
+          const View d = view(tp->second, twhat + " POSITION");
+          if (d.components != 3 || d.count != v.count)
+            fail(twhat + " POSITION: " + std::to_string(d.count) + " elements, the base has " +
+                 std::to_string(v.count));
+          for (size_t i = 0; i < v.count; ++i)
+            for (size_t c = 0; c < 3; ++c)
+              mesh.positions[base + i][c] += w * d.get(i, c);
+        }
+        for (size_t i = base; i < mesh.positions.size(); ++i)
+          for (double c : mesh.positions[i])
+            if (!std::isfinite(c) || std::fabs(c) > 1e300)
+              fail(what + ": vertex " + std::to_string(i - base) + " is not finite");
+        if (prim.indices >= 0) {
+          const View ix = view(prim.indices, what + " indices");
+          if (ix.components != 1 || ix.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+              ix.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
+              ix.componentType == TINYGLTF_COMPONENT_TYPE_SHORT)
+            fail(what + " indices: not unsigned integer scalars");
+          if (ix.count % 3 != 0)
+            fail(what + " indices: " + std::to_string(ix.count) + " is not a multiple of 3");
+          for (size_t i = 0; i < ix.count; i += 3) {
+            Triangle tri;
+            for (size_t c = 0; c < 3; ++c) {
+              const uint32_t index = ix.index(i + c);
+              if (index >= v.count)
+                fail(what + " indices: index " + std::to_string(index) + " at " +
+                     std::to_string(i + c) + " out of range (the primitive has " +
+                     std::to_string(v.count) + " vertices)");
+              tri[c] = static_cast<uint32_t>(base + index);
+            }
+            mesh.triangles.push_back(tri);
+          }
+        } else {
+          if (v.count % 3 != 0)
+            fail(what + ": " + std::to_string(v.count) +
+                 " vertices without indices is not a multiple of 3");
+          for (size_t i = 0; i < v.count; i += 3)
+            mesh.triangles.push_back({static_cast<uint32_t>(base + i),
+                                      static_cast<uint32_t>(base + i + 1),
+                                      static_cast<uint32_t>(base + i + 2)});
+        }
+      }
+    }
+    const std::string frameName = animated ? "frame " + std::to_string(k) + ": " : "";
+    if (mesh.positions.empty()) fail(frameName + "no vertices");
+    if (mesh.triangles.empty()) fail(frameName + "no faces");
+    bool proper = false;
+    for (const Triangle& tri : mesh.triangles)
+      proper |= tri[0] != tri[1] && tri[1] != tri[2] && tri[0] != tri[2];
+    if (!proper)
+      fail(frameName +
+           "every face has a repeated vertex (degenerate): no triangle is left to code");
+    return mesh;
+  }
+};
+
+namespace {
+
+std::unique_ptr<GltfFile::Impl> parseGltf(const std::vector<uint8_t>& bytes,
+                                          const std::string& name, const std::string& folder) {
+  auto impl = std::make_unique<GltfFile::Impl>();
+  impl->name = name;
+  // The JSON: the whole file, or a GLB's first chunk.
+  const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  const uint8_t* json = bytes.data();
+  size_t jsonSize = bytes.size();
+  if (glb) {
+    if (bytes.size() < 20 || le32(bytes.data() + 4) != 2 || le32(bytes.data() + 16) != 0x4E4F534A ||
+        le32(bytes.data() + 12) > bytes.size() - 20)
+      throw Error(name + ": not a glTF 2.0 binary file (bad GLB header or JSON chunk)");
+    json = bytes.data() + 20;
+    jsonSize = le32(bytes.data() + 12);
+  }
+  if (jsonSize > kMaxGltfJsonBytes)
+    throw Error(name + ": JSON of " + std::to_string(jsonSize) + " bytes (more than " +
+                std::to_string(kMaxGltfJsonBytes) + ")");
+  {
+    JsonLimits limits;
+    nlohmann::json::sax_parse(json, json + jsonSize, &limits);
+    if (!limits.error.empty()) throw Error(name + ": " + limits.error);
+  }
+  if (glb) {
+    // The BIN chunk is copied into every buffer without a uri: only one may have none.
+    const nlohmann::json doc = nlohmann::json::parse(json, json + jsonSize);
+    const auto buffers = doc.find("buffers");
+    if (buffers != doc.end() && buffers->is_array()) {
+      size_t embedded = 0;
+      for (const auto& b : *buffers)
+        embedded += b.is_object() && !b.contains("uri");
+      if (embedded > 1)
+        throw Error(name + ": " + std::to_string(embedded) +
+                    " buffers use the GLB's BIN chunk (one may)");
+    }
+  }
+  Files files{name, folder, "", {}};
+  tinygltf::TinyGLTF loader;
+  loader.SetFsCallbacks({&fileExists, &expandPath, &readWholeFile, &writeWholeFile, &files});
+  loader.SetImageLoader(&ignoreImage, nullptr);
+  std::string err, warn;
+  const std::string base = folder.empty() ? std::string("/nonexistent") : folder;
+  const bool ok = glb ? loader.LoadBinaryFromMemory(&impl->model, &err, &warn, bytes.data(),
+                                                    static_cast<unsigned int>(bytes.size()), base)
+                      : loader.LoadASCIIFromString(&impl->model, &err, &warn,
+                                                   reinterpret_cast<const char*>(bytes.data()),
+                                                   static_cast<unsigned int>(bytes.size()), base);
+  if (!ok) {
+    if (!files.error.empty()) throw Error(name + ": buffer: " + files.error);
+    throw Error(name + ": glTF: " + firstLine(err.empty() ? "cannot be read" : err));
+  }
+  impl->inputBytes = bytes.size();
+  impl->load();
+  return impl;
+}
+
+std::string folderOf(const std::string& path) {
+  const size_t slash = path.rfind('/');
+  if (slash == std::string::npos) return ".";
+  if (slash == 0) return "/";
+  return path.substr(0, slash);
+}
+
+}  // namespace
+
+GltfFile::GltfFile(const std::string& path)
+    : impl_(parseGltf(readFileBytes(path, kMaxBinaryFileBytes, "a glTF file"), path,
+                      folderOf(path))) {}
+
+GltfFile::GltfFile(const std::vector<uint8_t>& bytes, const std::string& name)
+    : impl_(parseGltf(bytes, name, "")) {}
+
+GltfFile::~GltfFile() = default;
+GltfFile::GltfFile(GltfFile&&) noexcept = default;
+GltfFile& GltfFile::operator=(GltfFile&&) noexcept = default;
+
+size_t GltfFile::frameCount() const {
+  return impl_->animated ? impl_->times.size() : 1;
+}
+
+double GltfFile::frameTime(size_t k) const {
+  return impl_->animated ? impl_->times.at(k) : 0.0;
+}
+
+Mesh GltfFile::frame(size_t k) const {
+  if (k >= frameCount())
+    throw Error(impl_->name + ": frame " + std::to_string(k) + " is not in the file (" +
+                std::to_string(frameCount()) + " frames)");
+  return impl_->frame(k);
+}
+
+Mesh readGltf(const std::string& path) {
+  return GltfFile(path).frame(0);
+}
+
+// ---- Writing ----
+
+namespace {
+
+// Appends raw bytes to buffer 0 (4-byte aligned) and returns a bufferView over them.
+int addView(tinygltf::Model& model, const void* data, size_t bytes, int target) {
+  std::vector<unsigned char>& buffer = model.buffers[0].data;
+  while (buffer.size() % 4 != 0)
+    buffer.push_back(0);
+  tinygltf::BufferView bv;
+  bv.buffer = 0;
+  bv.byteOffset = buffer.size();
+  bv.byteLength = bytes;
+  bv.target = target;
+  const auto* p = static_cast<const unsigned char*>(data);
+  buffer.insert(buffer.end(), p, p + bytes);
+  model.bufferViews.push_back(bv);
+  return static_cast<int>(model.bufferViews.size() - 1);
+}
+
+int addAccessor(tinygltf::Model& model, int view, int componentType, int type, size_t count,
+                std::vector<double> min = {}, std::vector<double> max = {}) {
+  tinygltf::Accessor a;
+  a.bufferView = view;
+  a.byteOffset = 0;
+  a.componentType = componentType;
+  a.type = type;
+  a.count = count;
+  a.minValues = std::move(min);
+  a.maxValues = std::move(max);
+  model.accessors.push_back(a);
+  return static_cast<int>(model.accessors.size() - 1);
+}
+
+// float positions (x y z per vertex) as a POSITION accessor with its bounds.
+int addPositions(tinygltf::Model& model, const float* xyz, size_t vertices) {
+  std::vector<double> lo(3, 0.0), hi(3, 0.0);
+  for (size_t i = 0; i < vertices; ++i)
+    for (size_t c = 0; c < 3; ++c) {
+      const double v = xyz[i * 3 + c];
+      if (i == 0 || v < lo[c]) lo[c] = v;
+      if (i == 0 || v > hi[c]) hi[c] = v;
+    }
+  const int view = addView(model, xyz, vertices * 3 * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
+  return addAccessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, vertices, lo,
+                     hi);
+}
+
+int addIndices(tinygltf::Model& model, const std::vector<Triangle>& triangles) {
+  std::vector<uint32_t> indices;
+  indices.reserve(triangles.size() * 3);
+  for (const Triangle& t : triangles)
+    indices.insert(indices.end(), t.begin(), t.end());
+  const int view =
+      addView(model, indices.data(), indices.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+  return addAccessor(model, view, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
+                     indices.size());
+}
+
+int addScalars(tinygltf::Model& model, const std::vector<float>& values, bool bounds) {
+  const int view = addView(model, values.data(), values.size() * 4, 0);
+  std::vector<double> lo, hi;
+  if (bounds && !values.empty()) {
+    lo = {*std::min_element(values.begin(), values.end())};
+    hi = {*std::max_element(values.begin(), values.end())};
+  }
+  return addAccessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR,
+                     values.size(), lo, hi);
+}
+
+tinygltf::Model newModel() {
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = "3DVO";
+  model.buffers.resize(1);
+  model.scenes.resize(1);
+  model.defaultScene = 0;
+  return model;
+}
+
+std::string serialise(tinygltf::Model& model, bool binary) {
+  tinygltf::TinyGLTF writer;
+  std::ostringstream out;
+  if (!writer.WriteGltfSceneToStream(&model, out, false, binary))
+    throw Error("glTF: cannot serialise the model");
+  return out.str();
+}
+
+std::vector<float> toFloats(const Mesh& mesh) {
+  std::vector<float> xyz;
+  xyz.reserve(mesh.positions.size() * 3);
+  for (const Vec3d& p : mesh.positions)
+    for (double c : p)
+      xyz.push_back(static_cast<float>(c));
+  return xyz;
+}
+
+}  // namespace
+
+std::string formatGltf(const Mesh& mesh, GltfContainer container) {
+  tinygltf::Model model = newModel();
+  const std::vector<float> xyz = toFloats(mesh);
+  tinygltf::Primitive prim;
+  prim.mode = TINYGLTF_MODE_TRIANGLES;
+  prim.attributes["POSITION"] = addPositions(model, xyz.data(), mesh.positions.size());
+  prim.indices = addIndices(model, mesh.triangles);
+  tinygltf::Mesh m;
+  m.primitives.push_back(prim);
+  model.meshes.push_back(m);
+  tinygltf::Node node;
+  node.mesh = 0;
+  model.nodes.push_back(node);
+  model.scenes[0].nodes.push_back(0);
+  return serialise(model, container == GltfContainer::kGlb);
+}
+
+void writeGltf(const std::string& path, const Mesh& mesh, GltfContainer container) {
+  writeFileAtomic(path, formatGltf(mesh, container));
+}
+
+GltfAnimationWriter::GltfAnimationWriter(double frameRate) : frameRate_(frameRate) {}
+GltfAnimationWriter::~GltfAnimationWriter() = default;
+
+void GltfAnimationWriter::add(const Mesh& frame) {
+  const size_t inRun = runs_.empty() ? 0 : frames_ - runs_.back().first;
+  if (runs_.empty() || inRun == kMaxGltfRunFrames ||
+      runs_.back().vertices != frame.positions.size() ||
+      runs_.back().triangles != frame.triangles) {
+    Run run;
+    run.first = frames_;
+    run.vertices = frame.positions.size();
+    run.triangles = frame.triangles;
+    runs_.push_back(std::move(run));
+  }
+  const std::vector<float> xyz = toFloats(frame);
+  runs_.back().positions.insert(runs_.back().positions.end(), xyz.begin(), xyz.end());
+  ++frames_;
+}
+
+std::string GltfAnimationWriter::finish() {
+  tinygltf::Model model = newModel();
+  tinygltf::Animation animation;
+  animation.name = "frames";
+  auto time = [this](size_t frame) { return static_cast<float>(frame / frameRate_); };
+  for (size_t r = 0; r < runs_.size(); ++r) {
+    const Run& run = runs_[r];
+    const size_t n = run.positions.size() / (run.vertices * 3);  // frames in the run
+    tinygltf::Primitive prim;
+    prim.mode = TINYGLTF_MODE_TRIANGLES;
+    prim.attributes["POSITION"] = addPositions(model, run.positions.data(), run.vertices);
+    prim.indices = addIndices(model, run.triangles);
+    // Target j - 1 moves the base (frame 0 of the run) to frame j.
+    std::vector<float> delta(run.vertices * 3);
+    for (size_t j = 1; j < n; ++j) {
+      for (size_t i = 0; i < delta.size(); ++i)
+        delta[i] = run.positions[j * delta.size() + i] - run.positions[i];
+      prim.targets.push_back({{"POSITION", addPositions(model, delta.data(), run.vertices)}});
+    }
+    tinygltf::Mesh mesh;
+    mesh.name = "frames " + std::to_string(run.first) + "-" + std::to_string(run.first + n - 1);
+    mesh.primitives.push_back(prim);
+    mesh.weights.assign(n - 1, 0.0);
+    model.meshes.push_back(mesh);
+    tinygltf::Node node;
+    node.name = mesh.name;
+    node.mesh = static_cast<int>(r);
+    if (r > 0) node.scale = {0, 0, 0};  // a viewer without animation shows the first run
+    model.nodes.push_back(node);
+    model.scenes[0].nodes.push_back(static_cast<int>(r));
+    const int nodeIndex = static_cast<int>(r);
+    auto channel = [&](const std::vector<float>& times, const std::vector<float>& values,
+                       const char* path) {
+      tinygltf::AnimationSampler s;
+      s.input = addScalars(model, times, true);
+      s.output = addScalars(model, values, false);
+      if (std::string(path) == "scale") {
+        model.accessors[static_cast<size_t>(s.output)].type = TINYGLTF_TYPE_VEC3;
+        model.accessors[static_cast<size_t>(s.output)].count = values.size() / 3;
+      }
+      s.interpolation = "STEP";
+      animation.samplers.push_back(s);
+      tinygltf::AnimationChannel c;
+      c.sampler = static_cast<int>(animation.samplers.size() - 1);
+      c.target_node = nodeIndex;
+      c.target_path = path;
+      animation.channels.push_back(c);
+    };
+    if (n > 1) {
+      std::vector<float> times(n), weights(n * (n - 1), 0.0f);
+      for (size_t j = 0; j < n; ++j) {
+        times[j] = time(run.first + j);
+        if (j > 0) weights[j * (n - 1) + (j - 1)] = 1.0f;
+      }
+      channel(times, weights, "weights");
+    }
+    // Visible from the run's first frame to the next run's.
+    std::vector<float> times, scales;
+    if (run.first > 0) {
+      times.push_back(0.0f);
+      scales.insert(scales.end(), {0, 0, 0});
+    }
+    times.push_back(time(run.first));
+    scales.insert(scales.end(), {1, 1, 1});
+    if (r + 1 < runs_.size()) {
+      times.push_back(time(runs_[r + 1].first));
+      scales.insert(scales.end(), {0, 0, 0});
+    }
+    channel(times, scales, "scale");
+  }
+  model.animations.push_back(animation);
+  return serialise(model, true);
+}
+
+}  // namespace tdvo

@@ -1,0 +1,107 @@
+// glTF 2.0 reading and writing (.gltf with external or data-URI buffers, and .glb), positions
+// and triangles only, through tinygltf (Debian's libtinygltf-dev; never a parser of our own).
+//
+// A file is read as a sequence of frames (docs/user-guide.md, "Mesh files"):
+// - the frames are the keyframe times of the file's first animation (all its channels' input
+//   times, merged and sorted); a file without an animation is one frame;
+// - frame k is every node that has a mesh, in node order, that is visible at time k (its scale,
+//   animated or not, is not (0, 0, 0)), each mesh's triangle primitives in order, with the
+//   mesh's morph targets applied with the node's weights at that time (animated by the
+//   animation's "weights" channel: STEP, LINEAR or CUBICSPLINE; else the node's or the mesh's
+//   weights). Positions are the mesh's own coordinates: node transforms other than this
+//   visibility are not applied. A file without nodes is its meshes, in order.
+// So a base mesh with one morph target per frame and a STEP weights animation is a sequence,
+// and so is what writeGltfAnimation writes.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/core/mesh.h"
+
+namespace tdvo {
+
+// Limits of the glTF reader (docs/robustness.md, "Input files"): the file (and each external
+// buffer file) at most kMaxBinaryFileBytes (file_io.h); its JSON at most kMaxGltfJsonBytes with
+// at most kMaxGltfJsonValues values nested at most kMaxGltfJsonDepth deep (tinygltf's model
+// grows with the number of JSON values, not with their bytes); each buffer's bytes read once
+// (two buffers naming the same file or the same GLB chunk are refused); and a frame's vertices
+// and triangles bounded by the bytes of the buffers (12 bytes per vertex, 1 per index), and the
+// morph-target vertices a frame adds likewise, so that meshes or targets sharing their data
+// cannot make a frame larger, or its work longer, than the file; and keyframes x vertices at
+// most kMaxGltfVertexFramesPerByte per input byte.
+constexpr size_t kMaxGltfJsonBytes = size_t{1} << 26;
+constexpr size_t kMaxGltfJsonValues = size_t{1} << 18;
+constexpr size_t kMaxGltfJsonDepth = 64;
+// A sequence file's frames cost work in proportion to keyframes x vertices: at most this many
+// per byte of the file and its buffers (a morph-target file holds one target per frame, about
+// 1/12 per byte; blend-shape animations tens).
+constexpr uint64_t kMaxGltfVertexFramesPerByte = 4096;
+
+// A glTF file opened as a frame sequence. The whole file (and its buffers) is held, each frame
+// is made when asked for; frame() is const and may be called from several threads at once.
+class GltfFile {
+ public:
+  // Reads `path` (.gltf or .glb, told apart by their content); external buffers are read from
+  // the file's folder. Throws Error naming the file for anything that cannot be read.
+  explicit GltfFile(const std::string& path);
+  // Parses `bytes` held in memory; `name` is used in messages; external buffers are refused.
+  GltfFile(const std::vector<uint8_t>& bytes, const std::string& name);
+  ~GltfFile();
+  GltfFile(GltfFile&&) noexcept;
+  GltfFile& operator=(GltfFile&&) noexcept;
+
+  size_t frameCount() const;
+  // The keyframe time of frame k in seconds (0 for a file without animation).
+  double frameTime(size_t k) const;
+  // Frame k (k < frameCount()). Throws Error naming the file and the part at fault.
+  Mesh frame(size_t k) const;
+
+  struct Impl;  // the parsed file (gltf_io.cpp)
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// Frame 0 of a glTF file (a per-frame file).
+Mesh readGltf(const std::string& path);
+
+enum class GltfContainer { kGltf, kGlb };
+
+// One mesh as glTF: a .gltf with its buffer as a data URI, or a .glb. Positions are stored as
+// float (glTF's POSITION type), indices as unsigned int, in the mesh's order.
+std::string formatGltf(const Mesh& mesh, GltfContainer container);
+void writeGltf(const std::string& path, const Mesh& mesh, GltfContainer container);
+
+// Builds one animated .glb of a frame sequence (docs/user-guide.md, "Animated glTF"): frames
+// are cut into runs of constant connectivity (same vertex count and triangles) of at most
+// kMaxGltfRunFrames frames; each run is a node with one mesh whose base is the run's first
+// frame and whose morph targets are the other frames' displacements, shown by a STEP weights
+// animation (one target at weight 1 per frame) and by a STEP scale animation that shows the
+// node during its run only (scale 0 elsewhere). Frame k is at time k / frameRate.
+class GltfAnimationWriter {
+ public:
+  explicit GltfAnimationWriter(double frameRate);
+  ~GltfAnimationWriter();
+  void add(const Mesh& frame);
+  size_t frames() const { return frames_; }
+  std::string finish();  // the .glb bytes
+
+ private:
+  struct Run {
+    size_t first = 0;  // first frame
+    size_t vertices = 0;
+    std::vector<Triangle> triangles;
+    std::vector<float> positions;  // frames x vertices x 3
+  };
+  double frameRate_;
+  size_t frames_ = 0;
+  std::vector<Run> runs_;
+};
+
+constexpr size_t kMaxGltfRunFrames = 256;
+
+}  // namespace tdvo

@@ -1,0 +1,43 @@
+// The integer geometry grid of a sequence.
+//
+// The sequence header defines one axis-aligned grid for all frames: an origin, one step for all
+// three axes, and a bit depth. Coordinates on the grid are integers in [0, 2^bits - 1]. The
+// step is chosen so that the largest extent of the sequence's bounding box spans the full range.
+// All normative geometry (prediction, reconstruction, hashes) is in these integers; dequantised
+// float positions exist only for output.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "common/core/mesh.h"
+
+namespace tdvo {
+
+struct Grid {
+  static constexpr int kMinBits = 8;
+  static constexpr int kMaxBits = 20;
+
+  Vec3d origin{0, 0, 0};
+  double step = 1.0;
+  int bits = 12;
+
+  // The grid for a bounding box [lo, hi]. A box of zero extent gets step 1; an extent so small
+  // that the step would not be a normal double (below 2.2e-308) is an Error.
+  static Grid fromBounds(const Vec3d& lo, const Vec3d& hi, int bits);
+
+  int32_t maxCoordinate() const { return (int32_t{1} << bits) - 1; }
+
+  // Nearest grid point, clamped into the grid (clamping only matters for positions outside the
+  // bounds the grid was made from).
+  Vec3i quantise(const Vec3d& p) const;
+  Vec3d dequantise(const Vec3i& q) const;
+
+  IntMesh quantise(const Mesh& mesh) const;
+  Mesh dequantise(const IntMesh& mesh) const;
+};
+
+// Bounding box of many meshes; throws Error if there are no positions.
+void boundingBox(const std::vector<Mesh>& meshes, Vec3d& lo, Vec3d& hi);
+
+}  // namespace tdvo

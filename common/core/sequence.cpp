@@ -1,0 +1,70 @@
+#include "common/core/sequence.h"
+
+#include <cstdio>
+
+#include "common/core/error.h"
+
+namespace tdvo {
+
+namespace {
+
+// Finds the single conversion; returns its [start, end) in the pattern and its width/zero flag.
+struct Conversion {
+  size_t start = std::string::npos, end = 0;
+  int width = 0;
+  bool zeroPad = false;
+};
+
+Conversion findConversion(const std::string& pattern, const std::string& what) {
+  Conversion conversion;
+  for (size_t i = 0; i < pattern.size(); ++i) {
+    if (pattern[i] != '%') continue;
+    if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
+      ++i;
+      continue;
+    }
+    size_t j = i + 1;
+    Conversion c;
+    c.start = i;
+    if (j < pattern.size() && pattern[j] == '0') {
+      c.zeroPad = true;
+      ++j;
+    }
+    while (j < pattern.size() && pattern[j] >= '0' && pattern[j] <= '9' && c.width < 100)
+      c.width = c.width * 10 + (pattern[j++] - '0');
+    if (j >= pattern.size() || pattern[j] != 'd' || c.width > 32)
+      throw Error(what + ": '" + pattern + "': only %d, %Nd and %0Nd conversions are allowed");
+    if (conversion.start != std::string::npos)
+      throw Error(what + ": '" + pattern + "' has more than one frame-number conversion");
+    c.end = j + 1;
+    conversion = c;
+    i = j;
+  }
+  if (conversion.start == std::string::npos)
+    throw Error(what + ": '" + pattern + "' needs one frame-number conversion such as %04d");
+  return conversion;
+}
+
+std::string unescape(const std::string& s) {
+  std::string out;
+  for (size_t i = 0; i < s.size(); ++i) {
+    out += s[i];
+    if (s[i] == '%' && i + 1 < s.size() && s[i + 1] == '%') ++i;
+  }
+  return out;
+}
+
+}  // namespace
+
+void checkFramePattern(const std::string& pattern, const std::string& what) {
+  findConversion(pattern, what);
+}
+
+std::string framePath(const std::string& pattern, int frame) {
+  const Conversion c = findConversion(pattern, "frame pattern");
+  char number[48];
+  std::snprintf(number, sizeof number, c.zeroPad ? "%0*d" : "%*d", c.width, frame);
+  return unescape(pattern.substr(0, c.start)) + number + unescape(pattern.substr(c.end));
+}
+
+}  // namespace tdvo

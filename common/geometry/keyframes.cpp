@@ -1,0 +1,26 @@
+#include "common/geometry/keyframes.h"
+
+#include <cstddef>
+
+#include "common/geometry/pmesh_prediction.h"
+
+namespace tdvo {
+
+void interpolateFrame(const std::vector<Vec3i>& ka, const std::vector<Vec3i>& kb, int a, int b,
+                      int f, std::vector<Vec3i>& out) {
+  out.resize(ka.size());
+  const int64_t span = b - a, t = f - a;
+  for (size_t v = 0; v < ka.size(); ++v)
+    for (int c = 0; c < 3; ++c)
+      out[v][c] =
+          static_cast<int32_t>(ka[v][c] + roundDiv((int64_t{kb[v][c]} - ka[v][c]) * t, span));
+}
+
+std::vector<Vec3i> interpolateFrame(const std::vector<Vec3i>& ka, const std::vector<Vec3i>& kb,
+                                    int a, int b, int f) {
+  std::vector<Vec3i> out;
+  interpolateFrame(ka, kb, a, b, f, out);
+  return out;
+}
+
+}  // namespace tdvo

@@ -1,0 +1,85 @@
+#include "common/media/yuv.h"
+
+extern "C" {
+#include <libswscale/swscale.h>
+}
+
+#include <memory>
+
+#include "common/core/error.h"
+
+namespace tdvo {
+
+namespace {
+
+struct SwsDeleter {
+  void operator()(SwsContext* c) const { sws_freeContext(c); }
+};
+
+// One conversion between packed RGB24 and planar YUV 4:2:0 with the documented set-up.
+std::unique_ptr<SwsContext, SwsDeleter> converter(int width, int height, AVPixelFormat from,
+                                                  AVPixelFormat to) {
+  const int flags =
+      SWS_BILINEAR | SWS_ACCURATE_RND | SWS_BITEXACT | SWS_FULL_CHR_H_INT | SWS_FULL_CHR_H_INP;
+  std::unique_ptr<SwsContext, SwsDeleter> c(
+      sws_getContext(width, height, from, width, height, to, flags, nullptr, nullptr, nullptr));
+  if (!c)
+    throw Error("libswscale cannot convert " + std::to_string(width) + "x" +
+                std::to_string(height) + " pictures");
+  const int* bt601 = sws_getCoefficients(SWS_CS_ITU601);
+  // srcRange / dstRange: 0 = limited (16..235 luma), 1 = full. RGB is full range.
+  const int srcRange = from == AV_PIX_FMT_RGB24 ? 1 : 0;
+  const int dstRange = to == AV_PIX_FMT_RGB24 ? 1 : 0;
+  sws_setColorspaceDetails(c.get(), bt601, srcRange, bt601, dstRange, 0, 1 << 16, 1 << 16);
+  return c;
+}
+
+}  // namespace
+
+YuvPicture::YuvPicture(int w, int h, uint8_t fill)
+    : width(w),
+      height(h),
+      y(static_cast<size_t>(w) * h, fill),
+      u(static_cast<size_t>(w / 2) * (h / 2), fill),
+      v(static_cast<size_t>(w / 2) * (h / 2), fill) {}
+
+YuvPicture rgbToYuv420(const Image& rgb) {
+  check(rgb.channels == 3, "rgbToYuv420 needs an RGB image");
+  check(rgb.width > 0 && rgb.height > 0 && rgb.width % 2 == 0 && rgb.height % 2 == 0,
+        "rgbToYuv420 needs an even, non-empty size");
+  YuvPicture out(rgb.width, rgb.height);
+  auto c = converter(rgb.width, rgb.height, AV_PIX_FMT_RGB24, AV_PIX_FMT_YUV420P);
+  const uint8_t* src[1] = {rgb.pixels.data()};
+  const int srcStride[1] = {rgb.width * 3};
+  uint8_t* dst[3] = {out.y.data(), out.u.data(), out.v.data()};
+  const int dstStride[3] = {out.width, out.chromaWidth(), out.chromaWidth()};
+  sws_scale(c.get(), src, srcStride, 0, rgb.height, dst, dstStride);
+  return out;
+}
+
+Image yuv420ToRgb(const YuvPicture& picture) {
+  check(picture.width > 0 && picture.height > 0, "yuv420ToRgb needs a picture");
+  Image out(picture.width, picture.height, 3);
+  auto c = converter(picture.width, picture.height, AV_PIX_FMT_YUV420P, AV_PIX_FMT_RGB24);
+  const uint8_t* src[3] = {picture.y.data(), picture.u.data(), picture.v.data()};
+  const int srcStride[3] = {picture.width, picture.chromaWidth(), picture.chromaWidth()};
+  uint8_t* dst[1] = {out.pixels.data()};
+  const int dstStride[1] = {picture.width * 3};
+  sws_scale(c.get(), src, srcStride, 0, picture.height, dst, dstStride);
+  return out;
+}
+
+Md5Digest pictureDigest(const YuvPicture& picture) {
+  Md5 md5;
+  md5.update(picture.y.data(), picture.y.size());
+  md5.update(picture.u.data(), picture.u.size());
+  md5.update(picture.v.data(), picture.v.size());
+  return md5.finish();
+}
+
+std::string textureHashLine(int frame, int camera, const YuvPicture& picture) {
+  return "MD5 frame=" + std::to_string(frame) + " texture cam=" + std::to_string(camera) + " " +
+         toHex(pictureDigest(picture));
+}
+
+}  // namespace tdvo

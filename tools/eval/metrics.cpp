@@ -1,0 +1,504 @@
+#include "tools/eval/metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <nanoflann.hpp>
+#include <string>
+#include <tuple>
+#include <utility>
+
+#include "common/core/error.h"
+
+namespace tdvo {
+
+namespace {
+
+Vec3d sub(const Vec3d& a, const Vec3d& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+
+double dot(const Vec3d& a, const Vec3d& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+Vec3d cross(const Vec3d& a, const Vec3d& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+double squaredLength(const Vec3d& a) {
+  return dot(a, a);
+}
+
+// Squared distance from p to the segment ab (a point when a == b). Beyond either end the
+// distance to that end is computed directly, so a point equal to an end gives exactly 0.
+double pointSegmentSquaredDistance(const Vec3d& p, const Vec3d& a, const Vec3d& b) {
+  const Vec3d ab = sub(b, a), ap = sub(p, a);
+  const double t = dot(ap, ab);
+  if (t <= 0) return squaredLength(ap);
+  const double length2 = squaredLength(ab);
+  if (t >= length2) return squaredLength(sub(p, b));
+  const double s = t / length2;
+  return squaredLength({a[0] + s * ab[0] - p[0], a[1] + s * ab[1] - p[1], a[2] + s * ab[2] - p[2]});
+}
+
+// Squared distance from p to the box [lo, hi] (0 inside).
+double pointBoxSquaredDistance(const Vec3d& p, const Vec3d& lo, const Vec3d& hi) {
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = p[k] < lo[k] ? lo[k] - p[k] : (p[k] > hi[k] ? p[k] - hi[k] : 0.0);
+    d2 += d * d;
+  }
+  return d2;
+}
+
+void checkTriangles(const Mesh& mesh) {
+  check(!mesh.triangles.empty(), "surface distance: the mesh has no triangles");
+  const size_t n = mesh.positions.size();
+  for (size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (uint32_t v : mesh.triangles[t])
+      if (v >= n)  // (not check(): its message would be built for every corner)
+        throw Error("surface distance: triangle " + std::to_string(t) + " refers to vertex " +
+                    std::to_string(v) + " of " + std::to_string(n));
+}
+
+// The adaptor nanoflann needs to index a list of positions.
+struct PositionCloud {
+  const std::vector<Vec3d>& points;
+  size_t kdtree_get_point_count() const { return points.size(); }
+  double kdtree_get_pt(size_t i, size_t dim) const { return points[i][dim]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+using PositionTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PositionCloud>,
+                                        PositionCloud, 3, uint32_t>;
+
+constexpr uint32_t kLeafTriangles = 4;
+
+}  // namespace
+
+double pointTriangleSquaredDistance(const Vec3d& p, const Vec3d& a, const Vec3d& b,
+                                    const Vec3d& c) {
+  const Vec3d n = cross(sub(b, a), sub(c, a));
+  const double n2 = squaredLength(n);
+  if (n2 > 0) {
+    // The orthogonal projection of p onto the plane; when it falls inside the triangle (on the
+    // inner side of all three edges) the plane distance is the answer. The height is measured
+    // from the corner nearest to p, so that a point equal to a corner is at exactly 0.
+    const double da = squaredLength(sub(p, a)), db = squaredLength(sub(p, b)),
+                 dc = squaredLength(sub(p, c));
+    const Vec3d& origin = da <= db && da <= dc ? a : (db <= dc ? b : c);
+    const double h = dot(sub(p, origin), n);
+    const Vec3d q{p[0] - n[0] * h / n2, p[1] - n[1] * h / n2, p[2] - n[2] * h / n2};
+    if (dot(cross(sub(b, a), sub(q, a)), n) >= 0 && dot(cross(sub(c, b), sub(q, b)), n) >= 0 &&
+        dot(cross(sub(a, c), sub(q, c)), n) >= 0)
+      return h * h / n2;
+  }
+  // Otherwise the closest point lies on the boundary.
+  return std::min({pointSegmentSquaredDistance(p, a, b), pointSegmentSquaredDistance(p, b, c),
+                   pointSegmentSquaredDistance(p, c, a)});
+}
+
+SurfaceIndex::SurfaceIndex(const Mesh& mesh) {
+  checkTriangles(mesh);
+  check(mesh.triangles.size() < (size_t{1} << 31), "surface distance: too many triangles");
+  const size_t count = mesh.triangles.size();
+  std::vector<std::array<Vec3d, 3>> triangles(count);
+  std::vector<Vec3d> centroids(count);
+  std::vector<uint32_t> order(count);
+  for (size_t t = 0; t < count; ++t) {
+    const Triangle& tri = mesh.triangles[t];
+    triangles[t] = {mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]};
+    for (int k = 0; k < 3; ++k)
+      centroids[t][k] = (triangles[t][0][k] + triangles[t][1][k] + triangles[t][2][k]) / 3;
+    order[t] = static_cast<uint32_t>(t);
+  }
+  nodes_.reserve(2 * (count / kLeafTriangles + 1));
+  corners_.reserve(count);
+  build(order, centroids, 0, count, triangles);
+}
+
+uint32_t SurfaceIndex::build(std::vector<uint32_t>& order, std::vector<Vec3d>& centroids,
+                             size_t begin, size_t end,
+                             const std::vector<std::array<Vec3d, 3>>& triangles) {
+  const uint32_t index = static_cast<uint32_t>(nodes_.size());
+  nodes_.emplace_back();
+  Node node;
+  if (end - begin <= kLeafTriangles) {
+    node.lo = node.hi = triangles[order[begin]][0];
+    for (size_t i = begin; i < end; ++i)
+      for (const Vec3d& corner : triangles[order[i]])
+        for (int k = 0; k < 3; ++k) {
+          node.lo[k] = std::min(node.lo[k], corner[k]);
+          node.hi[k] = std::max(node.hi[k], corner[k]);
+        }
+    node.first = static_cast<uint32_t>(corners_.size());
+    node.count = static_cast<uint32_t>(end - begin);
+    for (size_t i = begin; i < end; ++i)
+      corners_.push_back(triangles[order[i]]);
+    nodes_[index] = node;
+    return index;
+  }
+  // Median split along the longest extent of the centroids: the tree stays balanced (depth
+  // about log2(T / 4)) whatever the triangle sizes, so the query stack below is bounded.
+  Vec3d centroidLo = centroids[order[begin]], centroidHi = centroidLo;
+  for (size_t i = begin; i < end; ++i)
+    for (int k = 0; k < 3; ++k) {
+      centroidLo[k] = std::min(centroidLo[k], centroids[order[i]][k]);
+      centroidHi[k] = std::max(centroidHi[k], centroids[order[i]][k]);
+    }
+  int axis = 0;
+  for (int k = 1; k < 3; ++k)
+    if (centroidHi[k] - centroidLo[k] > centroidHi[axis] - centroidLo[axis]) axis = k;
+  const size_t mid = begin + (end - begin) / 2;
+  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                   [&](uint32_t a, uint32_t b) {
+                     return std::tie(centroids[a][axis], a) < std::tie(centroids[b][axis], b);
+                   });
+  const uint32_t left = build(order, centroids, begin, mid, triangles);
+  const uint32_t right = build(order, centroids, mid, end, triangles);
+  // The node's box is the union of its children's.
+  for (int k = 0; k < 3; ++k) {
+    node.lo[k] = std::min(nodes_[left].lo[k], nodes_[right].lo[k]);
+    node.hi[k] = std::max(nodes_[left].hi[k], nodes_[right].hi[k]);
+  }
+  node.first = right;  // the left child is index + 1
+  node.count = 0;
+  nodes_[index] = node;
+  return index;
+}
+
+double SurfaceIndex::squaredDistance(const Vec3d& p) const {
+  uint32_t hint = 0;
+  return squaredDistance(p, hint);
+}
+
+double SurfaceIndex::squaredDistance(const Vec3d& p, uint32_t& hint) const {
+  // The hinted triangle gives a first upper bound (exact for that triangle, so the minimum found
+  // below is still exact); neighbouring query points share their nearest triangle often.
+  if (hint >= corners_.size()) hint = 0;
+  const auto& h = corners_[hint];
+  double best = pointTriangleSquaredDistance(p, h[0], h[1], h[2]);
+  // Depth-first, nearer child first, skipping nodes whose box is not nearer than the best so
+  // far. The tree depth is at most about 32 (median splits), so 128 entries cannot overflow.
+  struct Entry {
+    uint32_t node;
+    double d2;
+  };
+  Entry stack[128];
+  int size = 0;
+  stack[size++] = {0, pointBoxSquaredDistance(p, nodes_[0].lo, nodes_[0].hi)};
+  while (size > 0) {
+    const Entry e = stack[--size];
+    if (e.d2 >= best) continue;
+    const Node& node = nodes_[e.node];
+    if (node.count > 0) {
+      for (uint32_t t = node.first; t < node.first + node.count; ++t) {
+        const auto& c = corners_[t];
+        const double d2 = pointTriangleSquaredDistance(p, c[0], c[1], c[2]);
+        if (d2 < best) {
+          best = d2;
+          hint = t;
+        }
+      }
+      continue;
+    }
+    const uint32_t left = e.node + 1, right = node.first;
+    const double dl = pointBoxSquaredDistance(p, nodes_[left].lo, nodes_[left].hi);
+    const double dr = pointBoxSquaredDistance(p, nodes_[right].lo, nodes_[right].hi);
+    if (dl <= dr) {
+      if (dr < best) stack[size++] = {right, dr};
+      if (dl < best) stack[size++] = {left, dl};
+    } else {
+      if (dl < best) stack[size++] = {left, dl};
+      if (dr < best) stack[size++] = {right, dr};
+    }
+  }
+  return best;
+}
+
+DirectedSurfaceDistance directedSurfaceDistance(const Mesh& from, const SurfaceIndex& to) {
+  checkTriangles(from);
+  std::vector<bool> referenced(from.positions.size(), false);
+  for (const Triangle& t : from.triangles)
+    for (uint32_t v : t)
+      referenced[v] = true;
+  DirectedSurfaceDistance result;
+  double sum = 0;
+  uint32_t hint = 0;  // vertices in file order are mostly near their predecessor
+  for (size_t i = 0; i < from.positions.size(); ++i) {
+    if (!referenced[i]) continue;
+    const double d = std::sqrt(to.squaredDistance(from.positions[i], hint));
+    result.max = std::max(result.max, d);
+    sum += d;
+    ++result.samples;
+  }
+  result.mean = sum / static_cast<double>(result.samples);
+  return result;
+}
+
+double SurfaceDistance::hausdorff() const {
+  return std::max(referenceToTest.max, testToReference.max);
+}
+
+double SurfaceDistance::mean() const {
+  return std::max(referenceToTest.mean, testToReference.mean);
+}
+
+SurfaceDistance surfaceDistance(const Mesh& reference, const Mesh& test) {
+  SurfaceDistance result;
+  result.referenceToTest = directedSurfaceDistance(reference, SurfaceIndex(test));
+  result.testToReference = directedSurfaceDistance(test, SurfaceIndex(reference));
+  return result;
+}
+
+double vertexRmse(const std::vector<Vec3d>& reference, const std::vector<Vec3d>& test) {
+  SequenceErrorAccumulator accumulator;
+  accumulator.addFrame(reference, test);
+  return accumulator.vertexRmse();
+}
+
+void SequenceErrorAccumulator::addFrame(const std::vector<Vec3d>& reference,
+                                        const std::vector<Vec3d>& test) {
+  check(!reference.empty(), "vertex errors: the reference frame has no vertices");
+  check(reference.size() == test.size(), "vertex errors: the reference has " +
+                                             std::to_string(reference.size()) +
+                                             " vertices, the test " + std::to_string(test.size()));
+  check(frames_ == 0 || reference.size() == vertices_,
+        "vertex errors: frame " + std::to_string(frames_) + " has " +
+            std::to_string(reference.size()) + " vertices, earlier frames " +
+            std::to_string(vertices_));
+  Vec3d centroid{0, 0, 0};
+  for (const Vec3d& a : reference)
+    for (int k = 0; k < 3; ++k)
+      centroid[k] += a[k];
+  for (int k = 0; k < 3; ++k)
+    centroid[k] /= static_cast<double>(reference.size());
+  for (size_t i = 0; i < reference.size(); ++i) {
+    const double e2 = squaredLength(sub(reference[i], test[i]));
+    sumSquaredError_ += e2;
+    sumError_ += std::sqrt(e2);
+    sumSquaredSpread_ += squaredLength(sub(reference[i], centroid));
+  }
+  vertices_ = reference.size();
+  ++frames_;
+}
+
+double SequenceErrorAccumulator::temporalAverageError() const {
+  check(frames_ > 0, "vertex errors: no frames");
+  return sumError_ / (static_cast<double>(frames_) * static_cast<double>(vertices_));
+}
+
+double SequenceErrorAccumulator::vertexRmse() const {
+  check(frames_ > 0, "vertex errors: no frames");
+  return std::sqrt(sumSquaredError_ / (static_cast<double>(frames_) * vertices_));
+}
+
+double SequenceErrorAccumulator::kgError() const {
+  check(frames_ > 0, "vertex errors: no frames");
+  check(sumSquaredSpread_ > 0,
+        "KG error: undefined, every reference frame has all its vertices at one point");
+  return 100.0 * std::sqrt(sumSquaredError_) / std::sqrt(sumSquaredSpread_);
+}
+
+namespace {
+
+SequenceErrorAccumulator accumulate(const std::vector<std::vector<Vec3d>>& reference,
+                                    const std::vector<std::vector<Vec3d>>& test) {
+  check(reference.size() == test.size(), "vertex errors: the reference has " +
+                                             std::to_string(reference.size()) +
+                                             " frames, the test " + std::to_string(test.size()));
+  SequenceErrorAccumulator accumulator;
+  for (size_t f = 0; f < reference.size(); ++f)
+    accumulator.addFrame(reference[f], test[f]);
+  return accumulator;
+}
+
+}  // namespace
+
+double temporalAverageError(const std::vector<std::vector<Vec3d>>& reference,
+                            const std::vector<std::vector<Vec3d>>& test) {
+  return accumulate(reference, test).temporalAverageError();
+}
+
+double kgError(const std::vector<std::vector<Vec3d>>& reference,
+               const std::vector<std::vector<Vec3d>>& test) {
+  return accumulate(reference, test).kgError();
+}
+
+std::vector<uint32_t> nearestVertexCorrespondence(const std::vector<Vec3d>& reference,
+                                                  const std::vector<Vec3d>& test) {
+  check(!reference.empty(), "vertex correspondence: the reference has no vertices");
+  check(reference.size() == test.size(), "vertex correspondence: the reference has " +
+                                             std::to_string(reference.size()) +
+                                             " vertices, the test " + std::to_string(test.size()));
+  check(reference.size() < (size_t{1} << 32), "vertex correspondence: too many vertices");
+  const size_t n = reference.size();
+  const PositionCloud cloud{reference};
+  PositionTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+
+  // Pass 1: distance of each test vertex to its nearest reference vertex (sets the order).
+  std::vector<double> nearest2(n);
+  for (size_t i = 0; i < n; ++i) {
+    uint32_t index = 0;
+    double d2 = 0;
+    tree.knnSearch(test[i].data(), 1, &index, &d2);
+    nearest2[i] = d2;
+  }
+  std::vector<uint32_t> order(n);
+  for (size_t i = 0; i < n; ++i)
+    order[i] = static_cast<uint32_t>(i);
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    return std::tie(nearest2[a], a) < std::tie(nearest2[b], b);
+  });
+
+  // Pass 2: each test vertex takes the nearest free reference vertex (lowest index among equally
+  // near ones). k nearest neighbours are fetched, k starting at 2 and doubling until a free one
+  // is found whose distance is below the k-th (so no unseen vertex can be as near) or k covers
+  // everything.
+  std::vector<uint32_t> result(n);
+  std::vector<bool> taken(n, false);
+  std::vector<uint32_t> indices;
+  std::vector<double> d2s;
+  std::vector<std::pair<double, uint32_t>> candidates;
+  for (uint32_t i : order) {
+    size_t k = 2;
+    for (;;) {
+      k = std::min(k, n);
+      indices.resize(k);
+      d2s.resize(k);
+      const size_t found = tree.knnSearch(test[i].data(), k, indices.data(), d2s.data());
+      candidates.clear();
+      for (size_t j = 0; j < found; ++j)
+        candidates.emplace_back(d2s[j], indices[j]);
+      std::sort(candidates.begin(), candidates.end());
+      const double farthest = candidates.back().first;
+      bool done = false;
+      for (const auto& [d2, r] : candidates) {
+        if (taken[r]) continue;
+        if (d2 < farthest || found == n) {
+          result[i] = r;
+          taken[r] = true;
+          done = true;
+        }
+        break;
+      }
+      if (done) break;
+      k *= 2;
+    }
+  }
+  return result;
+}
+
+std::vector<Vec3d> inReferenceOrder(const std::vector<Vec3d>& test,
+                                    const std::vector<uint32_t>& correspondence) {
+  check(test.size() == correspondence.size(),
+        "vertex correspondence: " + std::to_string(correspondence.size()) + " entries for " +
+            std::to_string(test.size()) + " vertices");
+  std::vector<Vec3d> result(test.size());
+  std::vector<bool> seen(test.size(), false);
+  for (size_t i = 0; i < test.size(); ++i) {
+    const uint32_t r = correspondence[i];
+    if (r >= test.size() || seen[r])
+      throw Error("vertex correspondence: not a permutation at entry " + std::to_string(i));
+    seen[r] = true;
+    result[r] = test[i];
+  }
+  return result;
+}
+
+void BoundingBox::extend(const std::vector<Vec3d>& points) {
+  for (const Vec3d& p : points)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], p[k]);
+      hi[k] = std::max(hi[k], p[k]);
+    }
+}
+
+double BoundingBox::diagonal() const {
+  if (lo[0] > hi[0]) return 0;
+  return std::sqrt(squaredLength(sub(hi, lo)));
+}
+
+// ---- Texture metrics ----
+
+std::array<double, 3> rgbToYcbcr601(uint8_t r, uint8_t g, uint8_t b) {
+  // E'_Y = K_R R + (1 − K_R − K_B) G + K_B B on 0..1; Cb = (B − E'_Y) / (2 (1 − K_B)),
+  // Cr = (R − E'_Y) / (2 (1 − K_R)); 8-bit limited range: 16 + 219 E'_Y, 128 + 224 C.
+  constexpr double kR = 0.299, kB = 0.114, kG = 1.0 - kR - kB;
+  const double red = r / 255.0, green = g / 255.0, blue = b / 255.0;
+  const double luma = kR * red + kG * green + kB * blue;
+  return {16.0 + 219.0 * luma, 128.0 + 224.0 * (blue - luma) / (2.0 * (1.0 - kB)),
+          128.0 + 224.0 * (red - luma) / (2.0 * (1.0 - kR))};
+}
+
+void PictureError::add(const PictureError& other) {
+  pixels += other.pixels;
+  for (int c = 0; c < 3; ++c)
+    sumSquared[c] += other.sumSquared[c];
+}
+
+std::optional<double> PictureError::mse(int c) const {
+  if (pixels == 0) return std::nullopt;
+  return sumSquared[c] / static_cast<double>(pixels);
+}
+
+std::optional<double> PictureError::psnr(int c) const {
+  const std::optional<double> m = mse(c);
+  if (!m) return std::nullopt;
+  if (*m <= 0) return std::numeric_limits<double>::infinity();
+  return 10.0 * std::log10(255.0 * 255.0 / *m);
+}
+
+std::optional<double> PictureError::yuvPsnr() const {
+  if (pixels == 0) return std::nullopt;
+  return (6.0 * *psnr(0) + *psnr(1) + *psnr(2)) / 8.0;
+}
+
+namespace {
+
+void checkComparable(const Image& reference, const Image& test) {
+  check(reference.width == test.width && reference.height == test.height,
+        "texture metrics: reference is " + std::to_string(reference.width) + "x" +
+            std::to_string(reference.height) + ", test " + std::to_string(test.width) + "x" +
+            std::to_string(test.height));
+  check(reference.channels >= 3 && test.channels >= 3,
+        "texture metrics: RGB or RGBA images expected");
+}
+
+void addPixel(const Image& reference, const Image& test, int x, int y, PictureError& error) {
+  const std::array<double, 3> a =
+      rgbToYcbcr601(reference.at(x, y, 0), reference.at(x, y, 1), reference.at(x, y, 2));
+  const std::array<double, 3> b =
+      rgbToYcbcr601(test.at(x, y, 0), test.at(x, y, 1), test.at(x, y, 2));
+  for (int c = 0; c < 3; ++c)
+    error.sumSquared[c] += (a[c] - b[c]) * (a[c] - b[c]);
+  ++error.pixels;
+}
+
+}  // namespace
+
+PictureError maskedPictureError(const Image& reference, const Image& test, const Image& mask) {
+  checkComparable(reference, test);
+  check(mask.width == reference.width && mask.height == reference.height && mask.channels == 1,
+        "texture metrics: the mask must be one channel of the images' size");
+  PictureError error;
+  for (int y = 0; y < reference.height; ++y)
+    for (int x = 0; x < reference.width; ++x)
+      if (mask.at(x, y) != 0) addPixel(reference, test, x, y, error);
+  return error;
+}
+
+PictureError regionPictureError(const Image& reference, const Image& test, int x0, int y0, int x1,
+                                int y1) {
+  checkComparable(reference, test);
+  PictureError error;
+  for (int y = std::max(y0, 0); y < std::min(y1, reference.height); ++y)
+    for (int x = std::max(x0, 0); x < std::min(x1, reference.width); ++x)
+      addPixel(reference, test, x, y, error);
+  return error;
+}
+
+}  // namespace tdvo
