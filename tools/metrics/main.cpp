@@ -41,14 +41,15 @@ struct Params {
   void registerOptions(OptionTable& t) {
     t.section("Reference");
     t.add("ReferenceMeshes", referenceMeshes,
-          "reference OBJ (.obj or .obj.gz): one file, or a printf pattern such as "
+          "reference meshes (OBJ, PLY or glTF by extension; .gz for OBJ and PLY): one file, or a "
+          "printf pattern such as "
           "seq/%04d.obj.gz for a sequence",
           "-r");
     t.add("ReferenceFirstFrame", referenceFirstFrame, 0, 1000000000,
           "number of the first reference frame (sequences only)");
     t.section("Test");
     t.add("TestMeshes", testMeshes,
-          "test OBJ (e.g. decoded output): one file, or a pattern such as out/%04d.obj", "-t");
+          "test meshes (e.g. decoded output): one file, or a pattern such as out/%04d.obj", "-t");
     t.add("TestFirstFrame", testFirstFrame, 0, 1000000000,
           "number of the first test frame (sequences only; 3dvo-dec numbers from 0)");
     t.section("Comparison");

@@ -32,7 +32,8 @@ void addSynthOptions(OptionTable& table, SynthParams& p) {
       "--Overwrite");
   table.section("Content");
   table.add("InputMeshPattern", p.inputMeshPattern,
-            "OBJ sequence (e.g. samba/mesh_%04d.obj.gz, constant connectivity); empty: the "
+            "mesh sequence: OBJ, PLY or glTF frames (e.g. samba/mesh_%04d.obj.gz, constant "
+            "connectivity); empty: the "
             "built-in deforming blob");
   table.add("FirstFrame", p.firstFrame, 0, 1 << 30, "number of the first input mesh");
   table.add("FrameCount", p.frameCount, 1, 100000, "frames to render");

@@ -18,7 +18,8 @@ void addReconOptions(OptionTable& table, ReconParams& p) {
             "*_par.txt, OpenCV camera folders, NeRF transforms*.json)",
             "-i");
   table.add("InputMeshPattern", p.inputMeshPattern,
-            "instead of Input: an OBJ sequence (printf pattern) to track into GOMs without "
+            "instead of Input: a mesh sequence (OBJ, PLY or glTF frames; printf pattern) to track "
+            "into GOMs without "
             "reconstruction");
   table.add("Output", p.output, "output folder: OBJ frames, GOM list, encoder cfg, report", "-o");
   table.add(
