@@ -33,8 +33,7 @@ void addSynthOptions(OptionTable& table, SynthParams& p) {
   table.section("Content");
   table.add("InputMeshPattern", p.inputMeshPattern,
             "mesh sequence: OBJ, PLY or glTF frames (e.g. samba/mesh_%04d.obj.gz, constant "
-            "connectivity); empty: the "
-            "built-in deforming blob");
+            "connectivity); empty: the built-in deforming blob");
   table.add("FirstFrame", p.firstFrame, 0, 1 << 30, "number of the first input mesh");
   table.add("FrameCount", p.frameCount, 1, 100000, "frames to render");
   table.add("BlobSubdivisions", p.blobSubdivisions, 0, 7,
