@@ -262,12 +262,7 @@ int main(int argc, char** argv) {
     bool writeMeshes = true;
     MeshOutputFormat meshFormat = MeshOutputFormat::kObj;
     if (meshFormatName.empty()) {
-      const MeshFileFormat byName = meshFileFormat(meshPattern);
-      if (byName == MeshFileFormat::kPly) meshFormat = MeshOutputFormat::kPly;
-      if (byName == MeshFileFormat::kGltf)
-        meshFormat = meshPattern.size() >= 4 && meshPattern.substr(meshPattern.size() - 4) == ".glb"
-                         ? MeshOutputFormat::kGlb
-                         : MeshOutputFormat::kGltf;
+      meshFormat = meshOutputFormat(meshPattern);
     } else {
       const std::pair<const char*, MeshOutputFormat> kFormats[] = {
           {"obj", MeshOutputFormat::kObj},

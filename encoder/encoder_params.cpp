@@ -95,8 +95,9 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.section("Output");
   t.add("BitstreamFile", bitstreamFile, "the .3dvo stream to write", "-o");
   t.add("ReconMeshPattern", reconMeshPattern,
-        "optional: write the encoder's reconstruction as OBJ frames (printf pattern filled "
-        "with the input's frame numbers, like the decoder's output)");
+        "optional: write the encoder's reconstruction as mesh frames (printf pattern filled "
+        "with the input's frame numbers, like the decoder's output; OBJ, or PLY / glTF by a "
+        ".ply, .gltf or .glb extension)");
 }
 
 double EncoderParams::effectiveLambda() const {

@@ -170,7 +170,9 @@ int main(int argc, char** argv) {
             const int number = params.firstFrame + frame;
             std::printf("%s\n", geometryHashLine(number, recon).c_str());
             if (!params.reconMeshPattern.empty())
-              outputs.write(reconName(frame), formatObj(grid.dequantise(recon)));
+              outputs.write(reconName(frame),
+                            formatMeshFile(grid.dequantise(recon),
+                                           meshOutputFormat(params.reconMeshPattern)));
             progress.tick(frame + 1);
           },
           textures.get(),

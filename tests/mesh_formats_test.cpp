@@ -532,6 +532,13 @@ TEST(FormatsApps, MorphTargetGlbAsEncoderInput) {
   for (int f = 2; f < 7; ++f)
     expectClose(frames[f], readObj(dir.file(framePath("r%04d.obj", f))), tolerance,
                 "frame " + std::to_string(f));
+  // ReconMeshPattern's extension chooses its format, as the decoder's OutputMeshPattern.
+  ASSERT_EQ(test::run(dir, kBin + "/3dvo-enc",
+                      {"--InputMeshPattern=seq.glb", "--FirstFrame=2", "--GridBits=14",
+                       "--ReconMeshPattern=r%04d.ply", "-o", "y.3dvo"})
+                .exitCode,
+            0);
+  EXPECT_EQ(readPly(dir.file("r0006.ply")).positions, readObj(dir.file("r0006.obj")).positions);
 }
 
 // 3dvo-metrics reads PLY and glTF frames too: the decoded frames as binary PLY (double) against

@@ -44,6 +44,18 @@ Mesh readMesh(const std::string& path) {
   return readObj(path);
 }
 
+MeshOutputFormat meshOutputFormat(const std::string& path) {
+  switch (meshFileFormat(path)) {
+    case MeshFileFormat::kPly:
+      return MeshOutputFormat::kPly;
+    case MeshFileFormat::kGltf:
+      return endsWith(lower(path), ".glb") ? MeshOutputFormat::kGlb : MeshOutputFormat::kGltf;
+    case MeshFileFormat::kObj:
+      break;
+  }
+  return MeshOutputFormat::kObj;
+}
+
 const char* meshOutputExtension(MeshOutputFormat format) {
   switch (format) {
     case MeshOutputFormat::kPly:

@@ -21,6 +21,9 @@ Mesh readMesh(const std::string& path);
 // What 3dvo-dec writes per frame (--MeshFormat).
 enum class MeshOutputFormat { kObj, kPly, kPlyAscii, kGltf, kGlb };
 
+// The format a file name asks for: .ply (binary), .gltf, .glb, else OBJ.
+MeshOutputFormat meshOutputFormat(const std::string& path);
+
 // The file extension of a format (".obj", ".ply", ".gltf", ".glb").
 const char* meshOutputExtension(MeshOutputFormat format);
 
