@@ -192,7 +192,7 @@ void codePMesh(Io& io, Decider& decider, const GomTopology& topology,
     for (int c = 0; c < 3; ++c) {
       int32_t residual = 0;
       if (!Io::kReading) residual = decider.residual(v, c, prediction[c]);
-      const int cls = residualClass(around.count, around.sumAbs[c]);
+      const int cls = residualClass(around.count(), around.sums[c]);
       io.signedUeg(kResidualNames[c], ctx.residual[cls][c], PMeshContexts::kResidualCtx,
                    PMeshContexts::kResidualK, PMeshContexts::kResidualCutoff, residual, kMaxMotion);
       const int64_t m = int64_t{prediction[c]} + quantStep * residual;

@@ -143,14 +143,6 @@ GomTopology GomTopology::build(const IntMesh& iMesh) {
   return t;
 }
 
-RingView GomTopology::vertexRings() const {
-  return {neighbourStart.data(), neighbours.data(), wingStart.data(), wings.data()};
-}
-
-RingView GomTopology::rankRings() const {
-  return {rankNeighbourStart.data(), rankNeighbours.data(), rankWingStart.data(), rankWings.data()};
-}
-
 Vec3i predictMotion(const GomTopology& topology, uint32_t v, const std::vector<Vec3i>& motion,
                     const std::vector<uint8_t>& available, const Vec3i& fallback) {
   std::vector<MotionRecord> records(topology.numVertices);

@@ -52,8 +52,13 @@ struct GomTopology {
   static GomTopology build(const IntMesh& iMesh);
 
   // The rings and wings as a RingView: indexed by vertex, or by rank.
-  RingView vertexRings() const;
-  RingView rankRings() const;
+  RingView vertexRings() const {
+    return {neighbourStart.data(), neighbours.data(), wingStart.data(), wings.data()};
+  }
+  RingView rankRings() const {
+    return {rankNeighbourStart.data(), rankNeighbours.data(), rankWingStart.data(),
+            rankWings.data()};
+  }
 };
 
 // ceil(2^64 / b) for the divisors b in [2, kCount) that floorDiv handles by multiplication.
@@ -91,6 +96,8 @@ inline int64_t roundDiv(int64_t num, int64_t den) {
 // Four int32 lanes that + and - combine lane by lane, one SIMD instruction each (a GCC/Clang
 // vector extension): x, y, z and a count.
 using Lanes4 = int32_t __attribute__((vector_size(16)));
+// The same lanes widened to int64, for sums that could overflow int32.
+using Wide4 = int64_t __attribute__((vector_size(32)));
 
 // What the predictor knows about one vertex (and what codePMesh, bitstream/pmesh_syntax.h,
 // keeps per vertex while it codes a P mesh). 32 bytes, so that the neighbour loops read one
@@ -109,10 +116,11 @@ struct MotionRecord {
 static_assert(sizeof(MotionRecord) == 32, "one record per half cache line");
 
 // The residual statistics of a vertex's 1-ring (for the residual's context, pmesh_syntax.h):
-// `count` neighbours with a decoded residual, `sumAbs` the sums of their |residual|.
+// sums[c] the sum of |residual| in component c over the neighbours with a decoded residual,
+// sums[3] how many they are (the absResidual lanes, summed).
 struct RingResiduals {
-  int64_t count = 0;
-  int64_t sumAbs[3] = {0, 0, 0};
+  int64_t sums[4];
+  int64_t count() const { return sums[3]; }
 };
 
 namespace detail {
@@ -125,7 +133,7 @@ inline Vec3i predictMotion(const RingView rings, const MotionRecord* records, ui
   // most kRun terms, each run then widened: |motion|, |residual| <= 2^21, |m_a + m_b - m_o|
   // <= 3 * 2^21, so a run cannot overflow, and a ring of any size sums exactly.
   constexpr uint32_t kRun = 256;
-  int64_t ring[2][4] = {};
+  Wide4 motionSum{0, 0, 0, 0}, residualSum{0, 0, 0, 0};
   for (uint32_t i = rings.neighbourStart[v], end = rings.neighbourStart[v + 1]; i < end;
        i += kRun) {
     Lanes4 m{0, 0, 0, 0}, a{0, 0, 0, 0};
@@ -135,17 +143,13 @@ inline Vec3i predictMotion(const RingView rings, const MotionRecord* records, ui
       m += u.motion;
       if constexpr (kResiduals) a += u.absResidual;
     }
-    for (int c = 0; c < 4; ++c) {
-      ring[0][c] += m[c];
-      if constexpr (kResiduals) ring[1][c] += a[c];
-    }
+    motionSum += __builtin_convertvector(m, Wide4);
+    if constexpr (kResiduals) residualSum += __builtin_convertvector(a, Wide4);
   }
-  if constexpr (kResiduals) {
-    residuals->count = ring[1][3];
-    for (int c = 0; c < 3; ++c)
-      residuals->sumAbs[c] = ring[1][c];
-  }
-  const int64_t k = -ring[0][3];
+  if constexpr (kResiduals)
+    for (int c = 0; c < 4; ++c)
+      residuals->sums[c] = residualSum[c];
+  const int64_t k = -motionSum[3];
   if (k == 0) return fallback;
   // Wings (a, b, o) with all three available: sP = sum of m_a + m_b - m_o, and -kp in lane 3
   // (-1 - 1 + 1).
@@ -165,7 +169,7 @@ inline Vec3i predictMotion(const RingView rings, const MotionRecord* records, ui
   const int64_t kp = -p[3];
   Vec3i prediction;
   for (int c = 0; c < 3; ++c) {
-    const int64_t sN = ring[0][c], sP = p[c];
+    const int64_t sN = motionSum[c], sP = p[c];
     prediction[c] =
         static_cast<int32_t>(kp == 0 ? roundDiv(sN, k) : roundDiv(kp * sN + k * sP, 2 * k * kp));
   }
