@@ -76,31 +76,10 @@ inline int residualClass(int64_t count, int64_t sumAbs) {
          (1 + int(sumAbs > 0) + int(sumAbs >= 2 * count) + int(sumAbs >= 6 * count));
 }
 
-// Four int32 lanes that + and - combine lane by lane, one SIMD instruction each (a GCC/Clang
-// vector extension): x, y, z and a count.
-using Lanes4 = int32_t __attribute__((vector_size(16)));
-
-// What codePMesh knows about one vertex while it codes a P mesh, stored in breadth-first rank
-// order (GomTopology::rank). 32 bytes, so that the neighbour loops of pass 2 read one cache
-// line per neighbour, and neighbours in rank order are near each other. Each half is four
-// lanes whose last lane is a flag, so that summing records over a 1-ring also counts the
-// flags. Two invariants let those loops add without branching: a vertex whose motion is not
-// final yet has motion (0, 0, 0), and absResidual is (0, 0, 0) unless the vertex has a decoded
-// residual.
-struct PMeshVertexState {
-  // m[v] in lanes 0-2; lane 3 "available": -1 (all bits set, a ready-made mask) when the motion
-  // is final (every vertex outside RESIDUAL leaves, and those of pass 2 once decoded), else 0.
-  Lanes4 motion{0, 0, 0, -1};
-  // |pm_residual| per component in lanes 0-2 once decoded; lane 3 "hasResidual": 1 once
-  // decoded in pass 2.
-  Lanes4 absResidual{0, 0, 0, 0};
-};
-static_assert(sizeof(PMeshVertexState) == 32, "one record per half cache line");
-
 // Buffers of codePMesh, kept by the caller from one P mesh to the next: once they have grown
 // to the GOM's vertex count, coding further P meshes allocates nothing.
 struct PMeshWorkspace {
-  std::vector<PMeshVertexState> vertices;
+  std::vector<MotionRecord> vertices;   // per vertex, in rank order
   std::vector<uint32_t> residualRanks;  // pass 2's vertices
   MortonOctree octree;
 };
@@ -116,9 +95,9 @@ void codePMesh(Io& io, Decider& decider, const GomTopology& topology,
   const uint32_t n = topology.numVertices;
   io.require(previous.size() == n, "previous frame and GOM topology disagree");
   PMeshContexts ctx;
-  work.vertices.assign(n, PMeshVertexState());
+  work.vertices.assign(n, MotionRecord());
   // Raw pointers: a local pointer, unlike a vector's, is not reloaded after every store.
-  PMeshVertexState* const state = work.vertices.data();
+  MotionRecord* const state = work.vertices.data();
 
   // Pass 1: octree clustering. The cells are ranges of the Morton-sorted vertices (the order
   // inside a leaf does not matter: every vertex of a leaf is treated alike).
@@ -185,15 +164,12 @@ void codePMesh(Io& io, Decider& decider, const GomTopology& topology,
   if (n > 0) cell(cell, 0u, n, 0);
 
   // Pass 2: residuals in breadth-first order, i.e. rank by rank. The prediction is
-  // predictMotion's (same sums, same rounding), fused with the residual context statistics
-  // into one neighbour loop. A vertex of a RESIDUAL leaf is still unavailable when its turn
+  // predictMotion's over the records in rank space, which sums the residual context statistics
+  // in the same neighbour loop. A vertex of a RESIDUAL leaf is still unavailable when its turn
   // comes (only its own turn makes it available), every other vertex is available.
   Vec3i fallback{0, 0, 0};
   static const char* const kResidualNames[3] = {"pm_residual_x", "pm_residual_y", "pm_residual_z"};
-  const uint32_t* const neighbourStart = topology.rankNeighbourStart.data();
-  const uint32_t* const neighbours = topology.rankNeighbours.data();
-  const uint32_t* const wingStart = topology.rankWingStart.data();
-  const std::array<uint32_t, 3>* const wings = topology.rankWings.data();
+  const RingView rings = topology.rankRings();
   const int64_t quantStep = params.quantStep;
   // The ranks of the vertices of RESIDUAL leaves, listed without a branch per vertex (which
   // vertex is one follows the data).
@@ -206,51 +182,9 @@ void codePMesh(Io& io, Decider& decider, const GomTopology& topology,
   }
   for (const uint32_t* next = residualRanks; next != residualRanks + numResidual; ++next) {
     const uint32_t r = *next;
-    PMeshVertexState& sv = state[r];
-    // Over the 1-ring: sN and -k (k available neighbours) from the motion lanes, the residual
-    // statistics and their count from the absResidual lanes. Lanes add in int32 in runs of at
-    // most kRun terms, each run then widened: |motion|, |residual| <= 2^21, |m_a + m_b - m_o|
-    // <= 3 * 2^21, so a run cannot overflow, and a ring of any size sums exactly.
-    constexpr uint32_t kRun = 256;
-    int64_t ring[2][4] = {};
-    for (uint32_t i = neighbourStart[r], end = neighbourStart[r + 1]; i < end; i += kRun) {
-      Lanes4 m{0, 0, 0, 0}, a{0, 0, 0, 0};
-      const uint32_t runEnd = end - i > kRun ? i + kRun : end;
-      for (uint32_t j = i; j < runEnd; ++j) {
-        const PMeshVertexState& u = state[neighbours[j]];
-        m += u.motion;
-        a += u.absResidual;
-      }
-      for (int c = 0; c < 4; ++c) {
-        ring[0][c] += m[c];
-        ring[1][c] += a[c];
-      }
-    }
-    const int64_t k = -ring[0][3], withResidual = ring[1][3];
-    Vec3i prediction = fallback;
-    if (k > 0) {
-      // Wings (a, b, o) with all three available: sP = sum of m_a + m_b - m_o, and -kp in lane 3
-      // (-1 - 1 + 1).
-      int64_t p[4] = {};
-      for (uint32_t i = wingStart[r], end = wingStart[r + 1]; i < end; i += kRun) {
-        Lanes4 run{0, 0, 0, 0};
-        const uint32_t runEnd = end - i > kRun ? i + kRun : end;
-        for (uint32_t j = i; j < runEnd; ++j) {
-          const Lanes4 a = state[wings[j][0]].motion, b = state[wings[j][1]].motion,
-                       o = state[wings[j][2]].motion;
-          const Lanes4 all = a & b & o;
-          run += (a + b - o) & Lanes4{all[3], all[3], all[3], all[3]};
-        }
-        for (int c = 0; c < 4; ++c)
-          p[c] += run[c];
-      }
-      const int64_t kp = -p[3];
-      for (int c = 0; c < 3; ++c) {
-        const int64_t sN = ring[0][c], sP = p[c];
-        prediction[c] = static_cast<int32_t>(kp == 0 ? roundDiv(sN, k)
-                                                     : roundDiv(kp * sN + k * sP, 2 * k * kp));
-      }
-    }
+    MotionRecord& sv = state[r];
+    RingResiduals around;
+    const Vec3i prediction = predictMotion(rings, state, r, fallback, around);
     const uint32_t v = topology.order[r];
     // Scalars until all three are known: a vector assembled in memory lane by lane would be
     // read back before the stores could be forwarded to it.
@@ -258,7 +192,7 @@ void codePMesh(Io& io, Decider& decider, const GomTopology& topology,
     for (int c = 0; c < 3; ++c) {
       int32_t residual = 0;
       if (!Io::kReading) residual = decider.residual(v, c, prediction[c]);
-      const int cls = residualClass(withResidual, ring[1][c]);
+      const int cls = residualClass(around.count(), around.sums[c]);
       io.signedUeg(kResidualNames[c], ctx.residual[cls][c], PMeshContexts::kResidualCtx,
                    PMeshContexts::kResidualK, PMeshContexts::kResidualCutoff, residual, kMaxMotion);
       const int64_t m = int64_t{prediction[c]} + quantStep * residual;

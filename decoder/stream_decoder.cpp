@@ -12,10 +12,9 @@
 #include "bitstream/units.h"
 #include "common/core/error.h"
 #include "common/core/ordered_parallel.h"
-#include "common/geometry/keyframes.h"
+#include "decoder/gom_decoder.h"
 #include "decoder/h264_decoder.h"
 #include "decoder/imesh_decoder.h"
-#include "decoder/pmesh_decoder.h"
 
 namespace tdvo {
 
@@ -60,437 +59,470 @@ T parseUnit(const UnitView& unit, const std::string& name, std::FILE* trace,
   return value;
 }
 
-// Makes a GOM's frames again, in frame order, for the texture pass, from what the geometry
-// pass kept: the I mesh and the P-mesh payloads (intra GOMs: the Draco payloads). What is kept
-// is bounded by the stream's bytes, and only the frame being made is held, so a textured GOM
-// takes memory for a few frames, not for all of them (docs/robustness.md, "Memory").
-// The payloads decoded without error in the geometry pass, so they decode the same here.
-struct GomReplay {
-  PMeshMode mode = PMeshMode::kIntra;
+// The units a GOM's texture pass makes its frames again from: what the geometry pass kept of
+// the GOM's geometry, the P-mesh payloads (intra GOMs: the Draco payloads). They are bounded by
+// the stream's bytes, and decoded without error in the geometry pass, so they decode the same
+// here. P-mesh GOMs start from the geometry pass's first reference (GomDecoder::firstReference).
+struct KeptUnits : GomUnits {
   int gridBits = 0;
   std::string where;  // the GOM header (for messages; none is expected)
-  PMeshParams params;
-  std::vector<uint16_t> keyframes;
-  IntMesh first;           // the GOM's I mesh, or the previous GOM's last frame (P-mesh GOMs)
-  bool continued = false;  // no I mesh: frame 0 is a P mesh predicted from `first`
-  GomTopology topology;
-  std::vector<std::vector<uint8_t>> payloads;  // per P mesh; per frame in intra GOMs
-  uint32_t produced = 0;                       // frames made so far
+  std::vector<std::vector<uint8_t>> payloads;
+  size_t taken = 0;
 
-  void start(PMeshMode m, int bits, const std::string& gomWhere, const PMeshParams& p,
-             const std::vector<uint16_t>& keys) {
-    mode = m;
-    gridBits = bits;
-    where = gomWhere;
-    params = p;
-    keyframes = keys;
-    first = IntMesh();
-    continued = false;
-    topology = GomTopology();
-    payloads.clear();
-    produced = 0;
-    n_ = 0;
+  void iMesh(uint32_t, IntMesh& mesh, std::string& meshWhere) override {
+    // Its counts passed the mesh-memory limit when the geometry pass read it.
+    mesh = decodeIMesh(payloads[taken], gridBits, where, 0, 0);
+    payloads[taken++] = std::vector<uint8_t>();  // each is decoded once
+    meshWhere = where;
   }
-
-  void setFirst(IntMesh mesh, bool continuing) {
-    first = std::move(mesh);
-    continued = continuing;
+  PMeshPayload pMesh(uint32_t) override {
+    const std::vector<uint8_t>& p = payloads[taken++];
+    return {p.data(), p.size(), where, nullptr};
   }
-
-  // The GOM's next frame (frame `produced` before the call).
-  const IntMesh& next() {
-    const int f = static_cast<int>(produced++);
-    if (mode == PMeshMode::kIntra) {
-      // Its counts passed the mesh-memory limit when the geometry pass read it.
-      current_ = decodeIMesh(payloads[f], gridBits, where, 0, 0);
-      payloads[f] = std::vector<uint8_t>();  // each is decoded once
-      return current_;
-    }
-    if (f == 0) {
-      current_ = first;
-      previous_ = first.positions;
-      n_ = 1;
-      if (!continued) return current_;  // the I mesh
-      n_ = 0;  // the first P mesh, predicted from the previous GOM's last frame
-    }
-    const int a = n_ > 0 ? keyframes[n_ - 1] : -1, b = keyframes[n_];
-    if (f == a + 1) {
-      const std::vector<uint8_t>& payload = payloads[continued ? n_ : n_ - 1];
-      if (mode == PMeshMode::kD3dmc)
-        decodePMesh(payload.data(), payload.size(), topology, previous_, params, where, work_,
-                    key_);
-      else
-        decodeTemporalDpcm(payload.data(), payload.size(), previous_, params, where, key_);
-    }
-    if (f < b) {
-      interpolateFrame(previous_, key_, a, b, f, current_.positions);
-    } else {
-      current_.positions = key_;
-      previous_.swap(key_);
-      ++n_;
-    }
-    return current_;
-  }
-
- private:
-  size_t n_ = 0;  // the keyframe interval being made: keyframes n_ - 1 .. n_
-  std::vector<Vec3i> previous_, key_;
-  PMeshWorkspace work_;
-  IntMesh current_;
 };
 
 }  // namespace
 
-void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& onTexture,
-                           const TextureCallback& prepareTexture) {
-  std::optional<UnitReader> inMemory;
-  if (!source_) inMemory.emplace(data_, size_, name_);
-  UnitSource& units = source_ ? *source_ : *inMemory;
-  gomStarts_.clear();
-  UnitView unit;
-  auto expectUnit = [&](UnitType type, const std::string& when) {
-    if (!units.next(unit))
-      throw Error(name_ + ": stream ends " + when + " (expected a " +
-                  unitTypeName(static_cast<uint8_t>(type)) + " unit; truncated stream)");
-    if (unit.type != static_cast<uint8_t>(type))
-      throw Error(name_ + ": " + unit.describe() + ": expected a " +
-                  unitTypeName(static_cast<uint8_t>(type)) + " unit " + when);
-  };
+// One run of StreamDecoder::decode: the stream's units in order, GOM by GOM. Each GOM's
+// geometry is made by a GomDecoder, which asks this class (its GomUnits) for the I and P meshes
+// as it needs them; with cameras, a second GomDecoder makes the GOM's frames again, a few at a
+// time, for its texture units (docs/robustness.md, "Memory").
+class StreamDecoder::Decoding : public GomUnits {
+ public:
+  Decoding(StreamDecoder& decoder, const FrameCallback& onFrame, const TextureCallback& onTexture,
+           const TextureCallback& prepareTexture)
+      : d_(decoder),
+        sh_(decoder.sh_),
+        name_(decoder.name_),
+        trace_(decoder.trace_),
+        onFrame_(onFrame),
+        onTexture_(onTexture),
+        prepareTexture_(prepareTexture) {
+    if (!d_.source_) inMemory_.emplace(d_.data_, d_.size_, name_);
+    units_ = d_.source_ ? d_.source_ : &*inMemory_;
+  }
 
+  void run() {
+    d_.gomStarts_.clear();
+    readSequenceHeader();
+    while (nextFrame_ < sh_.sh_frame_count) {
+      if (nextFrame_ >= outEnd_) return;  // the range is decoded: the rest is not read
+      decodeGom();
+    }
+    if (units_->next(unit_))
+      throw Error(name_ + ": " + unit_.describe() + ": unit after the last frame (sh_frame_count " +
+                  std::to_string(sh_.sh_frame_count) + ")");
+  }
+
+ private:
+  // ---- The steps ----
+  void readSequenceHeader();
+  void setFrameRange();
+  void setUpCameras();
+  void decodeGom();
+  GomHeader readGomHeader();
+  void skipGom(const GomHeader& gh);
+  void decodeGeometry(const GomHeader& gh);
+  void decodeTextures(const GomHeader& gh);
+  void emit(uint32_t frame, const std::vector<Vec3i>& positions);
+
+  // ---- Units and limits ----
+  void expectUnit(UnitType type, const std::string& when);
+  void skipTextures(const GomHeader& gh);
+  IntMesh readIMesh(uint32_t frame, uint32_t frames);
+  void limitDecodingWork(uint32_t frames, size_t vertices);
+  void limitTextureWork(const std::string& where, size_t c);
+  bool inRange(uint64_t frame) const { return frame >= outFirst_ && frame < outEnd_; }
+
+  class TexturePass;
+
+  // ---- GomUnits: the geometry pass reads the GOM's units from the stream ----
+  void iMesh(uint32_t k, IntMesh& mesh, std::string& where) override {
+    mesh = readIMesh(gomFirst_ + k, mode_ == PMeshMode::kIntra ? 1 : gomFrames_);
+    where = name_ + ": " + unit_.describe();
+  }
+  PMeshPayload pMesh(uint32_t k) override;
+
+  StreamDecoder& d_;
+  SequenceHeader& sh_;
+  const std::string& name_;
+  std::FILE* const trace_;
+  const FrameCallback& onFrame_;
+  const TextureCallback& onTexture_;
+  const TextureCallback& prepareTexture_;
+  std::optional<UnitReader> inMemory_;
+  UnitSource* units_ = nullptr;
+  UnitView unit_;  // the unit read last
+
+  uint32_t outFirst_ = 0, outEnd_ = 0;  // the frame range (setFrameRange) as stream frames
+  uint32_t nextFrame_ = 0;
+  uint64_t declaredOutput_ = 0;  // vertex-frames, summed over the I meshes so far
+
+  // The GOM being decoded.
+  std::string gomWhere_;
+  PMeshMode mode_ = PMeshMode::kIntra;
+  uint32_t gomFirst_ = 0, gomFrames_ = 0;
+  GomDecoder gom_;
+  PMeshUnit pm_;       // the last P mesh read (its buffers reused GOM after GOM)
+  KeptUnits kept_;     // the GOM's geometry payloads, for the texture pass
+  GomDecoder replay_;  // the texture pass's frames
+
+  // Frames are decoded in coding order and output in the order of the last VERTEX_ORDER unit.
+  MeshOrder order_;
+  IntMesh output_;
+
+  // Textures.
+  std::vector<MaskRenderer> cameras_;
+  std::vector<std::unique_ptr<H264Decoder>> textureDecoders_;  // made with a camera's first unit
+  std::vector<uint64_t> cameraPixels_;  // the larger of a camera's frame and texture box
+  uint64_t texturePixels_ = 0;          // the camera pixels of the texture units so far
+  Grid textureGrid_;
+};
+
+void StreamDecoder::Decoding::expectUnit(UnitType type, const std::string& when) {
+  if (!units_->next(unit_))
+    throw Error(name_ + ": stream ends " + when + " (expected a " +
+                unitTypeName(static_cast<uint8_t>(type)) + " unit; truncated stream)");
+  if (unit_.type != static_cast<uint8_t>(type))
+    throw Error(name_ + ": " + unit_.describe() + ": expected a " +
+                unitTypeName(static_cast<uint8_t>(type)) + " unit " + when);
+}
+
+void StreamDecoder::Decoding::readSequenceHeader() {
   expectUnit(UnitType::kSequenceHeader, "at the start");
-  sh_ = parseUnit<SequenceHeader>(unit, name_, trace_, "the sequence header");
+  sh_ = parseUnit<SequenceHeader>(unit_, name_, trace_, "the sequence header");
+  setFrameRange();
+  setUpCameras();
+}
 
-  // The frame range (setFrameRange) as stream frames [outFirst, outEnd).
+// The frame range (setFrameRange) as stream frames [outFirst_, outEnd_).
+void StreamDecoder::Decoding::setFrameRange() {
   const int64_t firstNumber = sh_.sh_first_frame;
   const int64_t lastNumber = firstNumber + sh_.sh_frame_count - 1;
   const std::string streamFrames = "the stream's frames are " + std::to_string(firstNumber) +
                                    " .. " + std::to_string(lastNumber);
-  uint32_t outFirst = 0, outEnd = sh_.sh_frame_count;
-  if (rangeFirst_ >= 0) {
-    if (rangeFirst_ < firstNumber || rangeFirst_ > lastNumber)
-      throw Error(name_ + ": FirstFrame " + std::to_string(rangeFirst_) +
+  outFirst_ = 0;
+  outEnd_ = sh_.sh_frame_count;
+  if (d_.rangeFirst_ >= 0) {
+    if (d_.rangeFirst_ < firstNumber || d_.rangeFirst_ > lastNumber)
+      throw Error(name_ + ": FirstFrame " + std::to_string(d_.rangeFirst_) +
                   " is not in the stream (" + streamFrames + ")");
-    outFirst = static_cast<uint32_t>(rangeFirst_ - firstNumber);
+    outFirst_ = static_cast<uint32_t>(d_.rangeFirst_ - firstNumber);
   }
-  if (rangeCount_ > 0) {
-    const int64_t last = firstNumber + outFirst + rangeCount_ - 1;
+  if (d_.rangeCount_ > 0) {
+    const int64_t last = firstNumber + outFirst_ + d_.rangeCount_ - 1;
     if (last > lastNumber)
       throw Error(name_ + ": FirstFrame + FrameCount - 1 = " + std::to_string(last) +
                   " is past the stream's last frame (" + streamFrames + ")");
-    outEnd = static_cast<uint32_t>(outFirst + rangeCount_);
+    outEnd_ = static_cast<uint32_t>(outFirst_ + d_.rangeCount_);
   }
-  auto inRange = [&](uint64_t frame) { return frame >= outFirst && frame < outEnd; };
+}
 
-  IntMesh mesh;
-  std::vector<Vec3i> previous, key;
-  PMeshWorkspace work;
-  PMeshUnit pm;
-  uint32_t nextFrame = 0;
-  // The decoding-work limit (kDefaultMaxVertexFramesPerByte): `frames` more frames of a
-  // `vertices`-vertex I mesh, declared by the GOM at `gomWhere`; `unit` is that I mesh.
-  uint64_t declaredOutput = 0;  // vertex-frames, summed over the I meshes so far
-  auto limitDecodingWork = [&](const std::string& gomWhere, uint32_t frames, size_t vertices) {
-    declaredOutput += uint64_t{frames} * vertices;  // < 2^20 frames x 2^24 vertices: no overflow
-    const uint64_t bytesRead = unit.payloadOffset + unit.size + 4;  // through the unit's CRC
-    const uint64_t limit = maxVertexFramesPerByte_;
-    // declared > limit x bytes, without overflowing the product.
-    if (limit == 0 || declaredOutput == 0 || (declaredOutput - 1) / bytesRead < limit) return;
-    throw Error(gomWhere + ": " + std::to_string(frames) + " frames x " + std::to_string(vertices) +
-                " vertices take the decoded output to " + std::to_string(declaredOutput) +
-                " vertex-frames from " + std::to_string(bytesRead) +
-                " stream bytes, more than the limit of " + std::to_string(limit) +
-                " vertex-frames per stream byte (MaxVertexFramesPerByte)");
-  };
-  // Textures: one H.264 decoder per camera, made with the camera's first texture unit (so
-  // that their memory follows the units read, not the cameras declared); the GOM's decoded
-  // meshes (dequantised once per frame, for all cameras) give the shapes, through each
-  // camera's rasteriser set up once.
-  std::vector<MaskRenderer> cameras;
-  std::vector<std::unique_ptr<H264Decoder>> textureDecoders(sh_.cameras.size());
+void StreamDecoder::Decoding::setUpCameras() {
+  textureDecoders_.resize(sh_.cameras.size());
   for (size_t c = 0; c < sh_.cameras.size(); ++c)
-    cameras.emplace_back(toCamera(sh_.cameras[c], static_cast<int>(c)));
-  // The texture-work limit (kDefaultMaxTexturePixelsPerByte): each camera's pixels, and the
-  // camera pixels of the texture units read so far.
-  std::vector<uint64_t> cameraPixels;
+    cameras_.emplace_back(toCamera(sh_.cameras[c], static_cast<int>(c)));
   for (const CameraParameters& c : sh_.cameras) {
     const TextureBox box = textureBox(c);
-    cameraPixels.push_back(
+    cameraPixels_.push_back(
         std::max(uint64_t{c.cam_width} * c.cam_height,
                  uint64_t{static_cast<uint32_t>(box.width)} * static_cast<uint32_t>(box.height)));
   }
-  uint64_t texturePixels = 0;
-  auto limitTextureWork = [&](const std::string& where, size_t c) {
-    const uint64_t limit = maxTexturePixelsPerByte_;
-    if (limit == 0) return;
-    const uint64_t bytesRead = unit.payloadOffset + unit.size + 4;  // through the unit's CRC
-    const uint64_t pixels = cameraPixels[c];
-    const CameraParameters& cp = sh_.cameras[c];
-    if (pixels > kTexturePixelsFree + kTexturePixelsPerByte * bytesRead)
-      throw Error(where + ": camera " + std::to_string(c) + "'s " + std::to_string(cp.cam_width) +
-                  "x" + std::to_string(cp.cam_height) + " frames need more memory than " +
-                  std::to_string(bytesRead) + " stream bytes allow (" +
-                  std::to_string(kTexturePixelsFree) + " + " +
-                  std::to_string(kTexturePixelsPerByte) +
-                  " pixels per stream byte; MaxTexturePixelsPerByte)");
-    texturePixels += pixels;  // < 2^20 frames x 64 cameras x 2^28 pixels: no overflow
-    if ((texturePixels - 1) / bytesRead < limit) return;
-    throw Error(where + ": texture units take the decoded camera pixels to " +
-                std::to_string(texturePixels) + " from " + std::to_string(bytesRead) +
-                " stream bytes, more than the limit of " + std::to_string(limit) +
-                " pixels per stream byte (MaxTexturePixelsPerByte)");
-  };
-  const Grid textureGrid = grid();
-  const bool textured = !cameras.empty();
-  GomReplay replay;
-  // Frames are decoded in coding order and output in the order of the last VERTEX_ORDER unit.
-  MeshOrder order;
-  IntMesh output;
-  bool canContinue = false;  // the last GOM was of P meshes: the next may continue it
-  auto emit = [&](int frame, const IntMesh& m) {
-    if (!inRange(static_cast<uint64_t>(frame))) return;
-    applyVertexOrder(order, m.positions, output.positions);
-    onFrame(frame, output);
-  };
-  // Item i = k * cameras + c is camera c's texture of the GOM's frame k. Whichever worker
-  // needs a unit reads the units up to it, in item order, under a lock; the pictures are
-  // decoded and the shapes rasterised on threads_ threads, at most `cameras` items started and
-  // not yet consumed: item i starts only once item i - cameras (the same camera's previous
-  // picture, through the same H.264 decoder) has been consumed. Callbacks and errors come in
-  // item order on the calling thread, as in a sequential run, for any thread count.
-  auto decodeTextures = [&](uint32_t first, uint32_t frames) {
-    const size_t count = size_t{frames} * cameras.size();
-    // The GOM's frames, made again in order as the items ask for them: each is kept until
-    // every camera's item has taken it (at most a few frames at a time).
-    struct Made {
-      std::shared_ptr<const Mesh> mesh;
-      size_t taken = 0;
-    };
-    std::mutex frameMutex;
-    std::map<size_t, Made> made;
-    auto frameMesh = [&](size_t k) {
-      std::lock_guard<std::mutex> lock(frameMutex);
-      while (replay.produced <= k) {
-        const size_t f = replay.produced;
-        made[f].mesh = std::make_shared<const Mesh>(textureGrid.dequantise(replay.next()));
-      }
-      auto it = made.find(k);
-      std::shared_ptr<const Mesh> mesh = it->second.mesh;
-      if (++it->second.taken == cameras.size()) made.erase(it);
-      return mesh;
-    };
-    struct Parsed {
-      TextureUnit tx;
-      std::string where;
-    };
-    std::map<size_t, Parsed> parsed;  // units read and not yet taken (a few: not the GOM's)
-    std::mutex readMutex;
-    size_t unitsRead = 0;          // units read so far
-    std::exception_ptr readError;  // what reading unit `unitsRead` threw
-    auto readUnit = [&](size_t i) {
-      std::lock_guard<std::mutex> lock(readMutex);
-      while (unitsRead <= i && !readError) {
-        try {
-          const size_t c = unitsRead % cameras.size();
-          const uint32_t frame = first + static_cast<uint32_t>(unitsRead / cameras.size());
-          expectUnit(UnitType::kTexture, "for the texture of camera " + std::to_string(c) +
-                                             ", frame " + std::to_string(frame));
-          Parsed& p = parsed[unitsRead];
-          p.tx = parseUnit<TextureUnit>(unit, name_, trace_, "the texture");
-          textureBytes_ += kUnitOverhead + unit.size;
-          p.where = name_ + ": " + unit.describe();
-          if (p.tx.tx_frame != frame || p.tx.tx_camera != c)
-            throw Error(p.where + ": texture of camera " + std::to_string(p.tx.tx_camera) +
-                        ", frame " + std::to_string(p.tx.tx_frame) + " but expected camera " +
-                        std::to_string(c) + ", frame " + std::to_string(frame));
-          limitTextureWork(p.where, c);
-          ++unitsRead;
-        } catch (...) {
-          readError = std::current_exception();
-        }
-      }
-      if (unitsRead <= i) std::rethrow_exception(readError);  // item i's own error comes first
-      const auto it = parsed.find(i);
-      Parsed p = std::move(it->second);
-      parsed.erase(it);
-      return p;
-    };
-    struct Decoded {
-      YuvPicture picture;
-      Image shape;
-    };
-    orderedParallelFor<Decoded>(
-        count, threads_, cameras.size(),
-        [&](size_t i) {
-          const Parsed p = readUnit(i);
-          const size_t k = i / cameras.size(), c = i % cameras.size();
-          const TextureBox box = textureBox(sh_.cameras[c]);
-          Decoded d;
-          // Only this item uses camera c's decoder now: the camera's next item starts once this
-          // one has been consumed.
-          if (!textureDecoders[c])
-            textureDecoders[c] =
-                std::make_unique<H264Decoder>(name_ + ": camera " + std::to_string(c));
-          try {
-            d.picture = textureDecoders[c]->decode(p.tx.tx_access_unit, box.width, box.height);
-          } catch (const Error& e) {
-            throw Error(p.where + ": " + e.what());
-          }
-          d.shape = textureShape(*frameMesh(k), cameras[c]);
-          if (prepareTexture && inRange(first + k))
-            prepareTexture(static_cast<int>(first + k), static_cast<int>(c), d.picture, d.shape);
-          return d;
-        },
-        [&](size_t i, Decoded& d) {
-          if (onTexture && inRange(first + i / cameras.size()))
-            onTexture(static_cast<int>(first + i / cameras.size()),
-                      static_cast<int>(i % cameras.size()), d.picture, d.shape);
-        });
-  };
+  textureGrid_ = d_.grid();
+  gom_.keepFirstReference(!cameras_.empty());
+}
 
-  while (nextFrame < sh_.sh_frame_count) {
-    if (nextFrame >= outEnd) return;  // the range is decoded: the rest is not read
-    const std::string when =
-        "before frame " + std::to_string(nextFrame) + " of " + std::to_string(sh_.sh_frame_count);
-    expectUnit(UnitType::kGomHeader, when);
-    const GomHeader gh = parseUnit<GomHeader>(unit, name_, trace_, "the GOM header");
-    const std::string gomWhere = name_ + ": " + unit.describe();
-    if (gh.gh_first_frame != nextFrame)
-      throw Error(gomWhere + ": gh_first_frame " + std::to_string(gh.gh_first_frame) +
-                  " but the next frame is " + std::to_string(nextFrame));
-    if (uint64_t{gh.gh_first_frame} + gh.gh_frame_count > sh_.sh_frame_count)
-      throw Error(gomWhere + ": GOM of " + std::to_string(gh.gh_frame_count) +
-                  " frames runs past sh_frame_count " + std::to_string(sh_.sh_frame_count));
-    if (gh.gh_random_access) gomStarts_.push_back(gh.gh_first_frame);
+// The decoding-work limit (kDefaultMaxVertexFramesPerByte): `frames` more frames of a
+// `vertices`-vertex I mesh, declared by the GOM being decoded; unit_ is that I mesh (or, in a
+// GOM that continues the previous one, its header).
+void StreamDecoder::Decoding::limitDecodingWork(uint32_t frames, size_t vertices) {
+  declaredOutput_ += uint64_t{frames} * vertices;  // < 2^20 frames x 2^24 vertices: no overflow
+  const uint64_t bytesRead = unit_.payloadOffset + unit_.size + 4;  // through the unit's CRC
+  const uint64_t limit = d_.maxVertexFramesPerByte_;
+  // declared > limit x bytes, without overflowing the product.
+  if (limit == 0 || declaredOutput_ == 0 || (declaredOutput_ - 1) / bytesRead < limit) return;
+  throw Error(gomWhere_ + ": " + std::to_string(frames) + " frames x " + std::to_string(vertices) +
+              " vertices take the decoded output to " + std::to_string(declaredOutput_) +
+              " vertex-frames from " + std::to_string(bytesRead) +
+              " stream bytes, more than the limit of " + std::to_string(limit) +
+              " vertex-frames per stream byte (MaxVertexFramesPerByte)");
+}
 
-    // Before the range: the GOM's texture units are read (their types checked), not decoded.
-    // Its geometry is skipped the same way in an intra GOM; a GOM of P meshes is decoded
-    // without output, since the next GOM may continue it (no I mesh: not a random access
-    // point).
-    const bool beforeRange = uint64_t{gh.gh_first_frame} + gh.gh_frame_count <= outFirst;
-    auto skipTextures = [&]() {
-      for (size_t k = 0; k < size_t{gh.gh_frame_count} * sh_.cameras.size(); ++k) {
-        expectUnit(UnitType::kTexture, "in the GOM at frame " + std::to_string(gh.gh_first_frame));
-        textureBytes_ += kUnitOverhead + unit.size;
-      }
-    };
-    if (beforeRange && gh.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kIntra)) {
-      for (size_t k = 0; k < gh.gh_frame_count; ++k)
-        for (UnitType type : {UnitType::kIMesh, UnitType::kVertexOrder})
-          expectUnit(type, "in the GOM at frame " + std::to_string(gh.gh_first_frame));
-      skipTextures();
-      nextFrame += gh.gh_frame_count;
-      canContinue = false;
-      continue;
-    }
+// The texture-work limit (kDefaultMaxTexturePixelsPerByte): camera c's pixels, and the camera
+// pixels of the texture units read so far; unit_ is camera c's texture unit.
+void StreamDecoder::Decoding::limitTextureWork(const std::string& where, size_t c) {
+  const uint64_t limit = d_.maxTexturePixelsPerByte_;
+  if (limit == 0) return;
+  const uint64_t bytesRead = unit_.payloadOffset + unit_.size + 4;  // through the unit's CRC
+  const uint64_t pixels = cameraPixels_[c];
+  const CameraParameters& cp = sh_.cameras[c];
+  if (pixels > kTexturePixelsFree + kTexturePixelsPerByte * bytesRead)
+    throw Error(where + ": camera " + std::to_string(c) + "'s " + std::to_string(cp.cam_width) +
+                "x" + std::to_string(cp.cam_height) + " frames need more memory than " +
+                std::to_string(bytesRead) + " stream bytes allow (" +
+                std::to_string(kTexturePixelsFree) + " + " + std::to_string(kTexturePixelsPerByte) +
+                " pixels per stream byte; MaxTexturePixelsPerByte)");
+  texturePixels_ += pixels;  // < 2^20 frames x 64 cameras x 2^28 pixels: no overflow
+  if ((texturePixels_ - 1) / bytesRead < limit) return;
+  throw Error(where + ": texture units take the decoded camera pixels to " +
+              std::to_string(texturePixels_) + " from " + std::to_string(bytesRead) +
+              " stream bytes, more than the limit of " + std::to_string(limit) +
+              " pixels per stream byte (MaxTexturePixelsPerByte)");
+}
 
-    const PMeshMode mode = static_cast<PMeshMode>(gh.gh_pmesh_mode);
-    PMeshParams pmParams;
-    pmParams.gridBits = sh_.sh_grid_bits;
-    pmParams.quantStep = gh.gh_motion_quant_step;
-    pmParams.maxDepth = gh.gh_max_octree_depth;
-    if (mode == PMeshMode::kD3dmc && gh.gh_max_octree_depth > sh_.sh_grid_bits)
-      throw Error(gomWhere + ": gh_max_octree_depth " + std::to_string(gh.gh_max_octree_depth) +
-                  " exceeds sh_grid_bits " + std::to_string(sh_.sh_grid_bits));
+void StreamDecoder::Decoding::decodeGom() {
+  const GomHeader gh = readGomHeader();
+  // Before the range: the GOM's texture units are read (their types checked), not decoded.
+  // Its geometry is skipped the same way in an intra GOM; a GOM of P meshes is decoded
+  // without output, since the next GOM may continue it (no I mesh: not a random access
+  // point).
+  const bool beforeRange = uint64_t{gh.gh_first_frame} + gh.gh_frame_count <= outFirst_;
+  if (beforeRange && gh.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kIntra))
+    return skipGom(gh);
+  decodeGeometry(gh);
+  if (beforeRange)
+    skipTextures(gh);
+  else if (!cameras_.empty())
+    decodeTextures(gh);
+}
 
-    if (textured) replay.start(mode, sh_.sh_grid_bits, gomWhere, pmParams, gh.keyframes);
+GomHeader StreamDecoder::Decoding::readGomHeader() {
+  const std::string when =
+      "before frame " + std::to_string(nextFrame_) + " of " + std::to_string(sh_.sh_frame_count);
+  expectUnit(UnitType::kGomHeader, when);
+  const GomHeader gh = parseUnit<GomHeader>(unit_, name_, trace_, "the GOM header");
+  gomWhere_ = name_ + ": " + unit_.describe();
+  if (gh.gh_first_frame != nextFrame_)
+    throw Error(gomWhere_ + ": gh_first_frame " + std::to_string(gh.gh_first_frame) +
+                " but the next frame is " + std::to_string(nextFrame_));
+  if (uint64_t{gh.gh_first_frame} + gh.gh_frame_count > sh_.sh_frame_count)
+    throw Error(gomWhere_ + ": GOM of " + std::to_string(gh.gh_frame_count) +
+                " frames runs past sh_frame_count " + std::to_string(sh_.sh_frame_count));
+  if (gh.gh_random_access) d_.gomStarts_.push_back(gh.gh_first_frame);
+  return gh;
+}
 
-    // `frames`: the frames made from this I mesh's vertices (the GOM's; 1 in an intra GOM).
-    auto readIMesh = [&](uint32_t frame, uint32_t frames) {
-      expectUnit(UnitType::kIMesh, "for frame " + std::to_string(frame));
-      const IMeshUnit im = parseUnit<IMeshUnit>(unit, name_, trace_, "the I mesh");
-      const std::string where = name_ + ": " + unit.describe();
-      if (im.im_frame != frame)
-        throw Error(where + ": im_frame " + std::to_string(im.im_frame) + " but expected " +
-                    std::to_string(frame));
-      // The mesh-memory limit (kDefaultMaxMeshMemoryPerByte), with the bytes through its CRC.
-      IntMesh decoded = decodeIMesh(im.im_draco_payload, sh_.sh_grid_bits, where,
-                                    unit.payloadOffset + unit.size + 4, maxMeshMemoryPerByte_);
-      limitDecodingWork(gomWhere, frames, decoded.positions.size());
-      if (textured && mode == PMeshMode::kIntra) replay.payloads.push_back(im.im_draco_payload);
-      expectUnit(UnitType::kVertexOrder, "after the I mesh of frame " + std::to_string(frame));
-      const VertexOrderUnit vo =
-          parseUnit<VertexOrderUnit>(unit, name_, trace_, "the vertex order");
-      const std::string orderWhere = name_ + ": " + unit.describe();
-      if (vo.vo_frame != frame)
-        throw Error(orderWhere + ": vo_frame " + std::to_string(vo.vo_frame) + " but expected " +
-                    std::to_string(frame));
-      CabacReaderIo reader(vo.vo_cabac_payload.data(), vo.vo_cabac_payload.size(), orderWhere,
-                           trace_);
-      order.numVertices = vo.vo_num_vertices;
-      codeMeshOrder(reader, decoded, order, vo.vo_triangle_order != 0);
-      reader.finish();
-      output.triangles = order.triangles;
-      return decoded;
-    };
+// An intra GOM before the frame range: its units are read, their types checked.
+void StreamDecoder::Decoding::skipGom(const GomHeader& gh) {
+  for (size_t k = 0; k < gh.gh_frame_count; ++k)
+    for (UnitType type : {UnitType::kIMesh, UnitType::kVertexOrder})
+      expectUnit(type, "in the GOM at frame " + std::to_string(gh.gh_first_frame));
+  skipTextures(gh);
+  nextFrame_ += gh.gh_frame_count;
+  gom_.clearContinuation();
+}
 
-    if (mode == PMeshMode::kIntra) {
-      for (uint32_t k = 0; k < gh.gh_frame_count; ++k, ++nextFrame)
-        emit(static_cast<int>(nextFrame), readIMesh(nextFrame, 1));
-      if (textured) decodeTextures(gh.gh_first_frame, gh.gh_frame_count);
-      canContinue = false;
-      continue;
-    }
-
-    // Buffers reused through the GOM and the next ones (no allocation per frame): the
-    // previous keyframe, the keyframe being decoded, and the frame handed to onFrame.
-    // A GOM that is no random access point continues the previous GOM's connectivity, order
-    // and last frame (`mesh`, `order`, `previous`): its first frame is a P mesh.
-    if (!gh.gh_random_access && !canContinue)
-      throw Error(gomWhere + ": gh_random_access 0, but no previous GOM of P meshes to continue");
-    if (gh.gh_random_access) {
-      mesh = readIMesh(nextFrame, gh.gh_frame_count);
-    } else {
-      limitDecodingWork(gomWhere, gh.gh_frame_count, mesh.positions.size());
-    }
-    GomTopology topology;
-    if (mode == PMeshMode::kD3dmc) try {
-        topology = GomTopology::build(mesh);
-      } catch (const Error& e) {  // the I mesh's connectivity: name its unit
-        throw Error(name_ + ": " + unit.describe() + ": " + e.what());
-      }
-    if (gh.gh_random_access) {
-      emit(static_cast<int>(nextFrame), mesh);
-      previous.assign(mesh.positions.begin(), mesh.positions.end());
-    }
-    // The texture pass makes the GOM's frames again from its first reference: the I mesh, or
-    // the previous GOM's last frame that a continuing GOM's first P mesh is predicted from.
-    if (textured) replay.setFirst(IntMesh{previous, mesh.triangles}, !gh.gh_random_access);
-    for (size_t n = gh.gh_random_access ? 1 : 0; n < gh.keyframes.size(); ++n) {
-      const int a = n > 0 ? gh.keyframes[n - 1] : -1, b = gh.keyframes[n];
-      const uint32_t frame = gh.gh_first_frame + b;
-      expectUnit(UnitType::kPMesh, "for frame " + std::to_string(frame));
-      parseUnitInto(unit, name_, trace_, "the P mesh", pm);
-      const std::string where = name_ + ": " + unit.describe();
-      if (pm.pm_frame != frame)
-        throw Error(where + ": pm_frame " + std::to_string(pm.pm_frame) + " but expected " +
-                    std::to_string(frame));
-      const std::vector<uint8_t>& payload = pm.pm_cabac_payload;
-      if (textured) replay.payloads.push_back(payload);
-      if (mode == PMeshMode::kD3dmc)
-        decodePMesh(payload.data(), payload.size(), topology, previous, pmParams, where, work, key,
-                    trace_);
-      else
-        decodeTemporalDpcm(payload.data(), payload.size(), previous, pmParams, where, key, trace_);
-      for (int f = a + 1; f < b; ++f) {
-        interpolateFrame(previous, key, a, b, f, mesh.positions);
-        emit(static_cast<int>(gh.gh_first_frame + f), mesh);
-      }
-      mesh.positions.swap(key);  // the keyframe is handed out ...
-      emit(static_cast<int>(frame), mesh);
-      previous.swap(mesh.positions);  // ... and becomes the reference of the next one
-    }
-    nextFrame += gh.gh_frame_count;
-    if (beforeRange) {
-      skipTextures();
-    } else if (textured) {
-      replay.topology = std::move(topology);
-      decodeTextures(gh.gh_first_frame, gh.gh_frame_count);
-    }
-    canContinue = true;
+void StreamDecoder::Decoding::skipTextures(const GomHeader& gh) {
+  for (size_t k = 0; k < size_t{gh.gh_frame_count} * sh_.cameras.size(); ++k) {
+    expectUnit(UnitType::kTexture, "in the GOM at frame " + std::to_string(gh.gh_first_frame));
+    d_.textureBytes_ += kUnitOverhead + unit_.size;
   }
-  if (units.next(unit))
-    throw Error(name_ + ": " + unit.describe() + ": unit after the last frame (sh_frame_count " +
-                std::to_string(sh_.sh_frame_count) + ")");
+}
+
+// The GOM's frames, in order, each handed out (emit) as it is made.
+void StreamDecoder::Decoding::decodeGeometry(const GomHeader& gh) {
+  mode_ = static_cast<PMeshMode>(gh.gh_pmesh_mode);
+  gomFirst_ = gh.gh_first_frame;
+  gomFrames_ = gh.gh_frame_count;
+  gom_.start(gh, sh_.sh_grid_bits, gomWhere_);
+  kept_ = KeptUnits();
+  kept_.gridBits = sh_.sh_grid_bits;
+  kept_.where = gomWhere_;
+  // A GOM that continues the previous one declares its frames at its header.
+  if (mode_ != PMeshMode::kIntra && !gh.gh_random_access)
+    limitDecodingWork(gh.gh_frame_count, gom_.continuedVertices());
+  while (!gom_.done()) {
+    const uint32_t frame = gomFirst_ + gom_.produced();
+    emit(frame, gom_.next(*this));
+  }
+  nextFrame_ += gh.gh_frame_count;
+}
+
+// `frames`: the frames made from this I mesh's vertices (the GOM's; 1 in an intra GOM).
+IntMesh StreamDecoder::Decoding::readIMesh(uint32_t frame, uint32_t frames) {
+  expectUnit(UnitType::kIMesh, "for frame " + std::to_string(frame));
+  const IMeshUnit im = parseUnit<IMeshUnit>(unit_, name_, trace_, "the I mesh");
+  const std::string where = name_ + ": " + unit_.describe();
+  if (im.im_frame != frame)
+    throw Error(where + ": im_frame " + std::to_string(im.im_frame) + " but expected " +
+                std::to_string(frame));
+  // The mesh-memory limit (kDefaultMaxMeshMemoryPerByte), with the bytes through its CRC.
+  IntMesh decoded = decodeIMesh(im.im_draco_payload, sh_.sh_grid_bits, where,
+                                unit_.payloadOffset + unit_.size + 4, d_.maxMeshMemoryPerByte_);
+  limitDecodingWork(frames, decoded.positions.size());
+  if (!cameras_.empty() && mode_ == PMeshMode::kIntra)
+    kept_.payloads.push_back(im.im_draco_payload);
+  expectUnit(UnitType::kVertexOrder, "after the I mesh of frame " + std::to_string(frame));
+  const VertexOrderUnit vo = parseUnit<VertexOrderUnit>(unit_, name_, trace_, "the vertex order");
+  const std::string orderWhere = name_ + ": " + unit_.describe();
+  if (vo.vo_frame != frame)
+    throw Error(orderWhere + ": vo_frame " + std::to_string(vo.vo_frame) + " but expected " +
+                std::to_string(frame));
+  CabacReaderIo reader(vo.vo_cabac_payload.data(), vo.vo_cabac_payload.size(), orderWhere, trace_);
+  order_.numVertices = vo.vo_num_vertices;
+  codeMeshOrder(reader, decoded, order_, vo.vo_triangle_order != 0);
+  reader.finish();
+  output_.triangles = order_.triangles;
+  return decoded;
+}
+
+PMeshPayload StreamDecoder::Decoding::pMesh(uint32_t k) {
+  const uint32_t frame = gomFirst_ + k;
+  expectUnit(UnitType::kPMesh, "for frame " + std::to_string(frame));
+  parseUnitInto(unit_, name_, trace_, "the P mesh", pm_);
+  const std::string where = name_ + ": " + unit_.describe();
+  if (pm_.pm_frame != frame)
+    throw Error(where + ": pm_frame " + std::to_string(pm_.pm_frame) + " but expected " +
+                std::to_string(frame));
+  if (!cameras_.empty()) kept_.payloads.push_back(pm_.pm_cabac_payload);
+  return {pm_.pm_cabac_payload.data(), pm_.pm_cabac_payload.size(), where, trace_};
+}
+
+// Output: a frame in the range, in the output order, to onFrame.
+void StreamDecoder::Decoding::emit(uint32_t frame, const std::vector<Vec3i>& positions) {
+  if (!inRange(frame)) return;
+  applyVertexOrder(order_, positions, output_.positions);
+  onFrame_(static_cast<int>(frame), output_);
+}
+
+// A GOM's texture pass. Item i = k * cameras + c is camera c's texture of the GOM's frame k.
+// Whichever worker needs a unit reads the units up to it, in item order, under a lock; the
+// pictures are decoded and the shapes rasterised on threads_ threads, at most `cameras` items
+// started and not yet consumed: item i starts only once item i - cameras (the same camera's
+// previous picture, through the same H.264 decoder) has been consumed. Callbacks and errors
+// come in item order on the calling thread, as in a sequential run, for any thread count.
+class StreamDecoder::Decoding::TexturePass {
+ public:
+  TexturePass(Decoding& run, uint32_t first, uint32_t frames)
+      : run_(run), cameras_(run.cameras_.size()), first_(first), frames_(frames) {}
+
+  void decode() {
+    orderedParallelFor<Decoded>(
+        size_t{frames_} * cameras_, run_.d_.threads_, cameras_,
+        [&](size_t i) { return decodeItem(i); },
+        [&](size_t i, Decoded& d) {
+          const uint32_t frame = first_ + static_cast<uint32_t>(i / cameras_);
+          if (run_.onTexture_ && run_.inRange(frame))
+            run_.onTexture_(static_cast<int>(frame), static_cast<int>(i % cameras_), d.picture,
+                            d.shape);
+        });
+  }
+
+ private:
+  struct Parsed {
+    TextureUnit tx;
+    std::string where;
+  };
+  struct Decoded {
+    YuvPicture picture;
+    Image shape;
+  };
+  // The GOM's frames, made again in order as the items ask for them: each is kept until every
+  // camera's item has taken it (at most a few frames at a time).
+  struct Made {
+    std::shared_ptr<const Mesh> mesh;
+    size_t taken = 0;
+  };
+
+  Decoded decodeItem(size_t i) {
+    const Parsed p = readUnit(i);
+    const size_t k = i / cameras_, c = i % cameras_;
+    const TextureBox box = textureBox(run_.sh_.cameras[c]);
+    Decoded d;
+    // Only this item uses camera c's decoder now: the camera's next item starts once this one
+    // has been consumed.
+    std::unique_ptr<H264Decoder>& decoder = run_.textureDecoders_[c];
+    if (!decoder)
+      decoder = std::make_unique<H264Decoder>(run_.name_ + ": camera " + std::to_string(c));
+    try {
+      d.picture = decoder->decode(p.tx.tx_access_unit, box.width, box.height);
+    } catch (const Error& e) {
+      throw Error(p.where + ": " + e.what());
+    }
+    d.shape = textureShape(*frameMesh(k), run_.cameras_[c]);
+    const uint32_t frame = first_ + static_cast<uint32_t>(k);
+    if (run_.prepareTexture_ && run_.inRange(frame))
+      run_.prepareTexture_(static_cast<int>(frame), static_cast<int>(c), d.picture, d.shape);
+    return d;
+  }
+
+  std::shared_ptr<const Mesh> frameMesh(size_t k) {
+    std::lock_guard<std::mutex> lock(frameMutex_);
+    GomDecoder& replay = run_.replay_;
+    while (replay.produced() <= k) {
+      const size_t f = replay.produced();
+      const std::vector<Vec3i>& positions = replay.next(run_.kept_);
+      auto mesh = std::make_shared<Mesh>();
+      mesh->positions.reserve(positions.size());
+      for (const Vec3i& q : positions)
+        mesh->positions.push_back(run_.textureGrid_.dequantise(q));
+      mesh->triangles = replay.triangles();
+      made_[f].mesh = std::move(mesh);
+    }
+    auto it = made_.find(k);
+    std::shared_ptr<const Mesh> mesh = it->second.mesh;
+    if (++it->second.taken == cameras_) made_.erase(it);
+    return mesh;
+  }
+
+  // Item i's texture unit, read (with the units before it) and checked.
+  Parsed readUnit(size_t i) {
+    std::lock_guard<std::mutex> lock(readMutex_);
+    while (unitsRead_ <= i && !readError_) {
+      try {
+        readNextUnit();
+      } catch (...) {
+        readError_ = std::current_exception();
+      }
+    }
+    if (unitsRead_ <= i) std::rethrow_exception(readError_);  // item i's own error comes first
+    const auto it = parsed_.find(i);
+    Parsed p = std::move(it->second);
+    parsed_.erase(it);
+    return p;
+  }
+
+  void readNextUnit() {
+    const size_t c = unitsRead_ % cameras_;
+    const uint32_t frame = first_ + static_cast<uint32_t>(unitsRead_ / cameras_);
+    run_.expectUnit(UnitType::kTexture, "for the texture of camera " + std::to_string(c) +
+                                            ", frame " + std::to_string(frame));
+    const UnitView& unit = run_.unit_;
+    Parsed& p = parsed_[unitsRead_];
+    p.tx = parseUnit<TextureUnit>(unit, run_.name_, run_.trace_, "the texture");
+    run_.d_.textureBytes_ += kUnitOverhead + unit.size;
+    p.where = run_.name_ + ": " + unit.describe();
+    if (p.tx.tx_frame != frame || p.tx.tx_camera != c)
+      throw Error(p.where + ": texture of camera " + std::to_string(p.tx.tx_camera) + ", frame " +
+                  std::to_string(p.tx.tx_frame) + " but expected camera " + std::to_string(c) +
+                  ", frame " + std::to_string(frame));
+    run_.limitTextureWork(p.where, c);
+    ++unitsRead_;
+  }
+
+  Decoding& run_;
+  const size_t cameras_;
+  const uint32_t first_, frames_;
+  std::mutex frameMutex_;
+  std::map<size_t, Made> made_;
+  std::mutex readMutex_;
+  std::map<size_t, Parsed> parsed_;  // units read and not yet taken (a few: not the GOM's)
+  size_t unitsRead_ = 0;             // units read so far
+  std::exception_ptr readError_;     // what reading unit `unitsRead_` threw
+};
+
+// The texture pass makes the GOM's frames again: from the geometry pass's first reference (the
+// I mesh, or the previous GOM's last frame that a continuing GOM's first P mesh is predicted
+// from) and the kept P-mesh payloads, or in an intra GOM from the kept Draco payloads.
+void StreamDecoder::Decoding::decodeTextures(const GomHeader& gh) {
+  replay_.start(gh, sh_.sh_grid_bits, gomWhere_,
+                mode_ == PMeshMode::kIntra ? nullptr : &gom_.firstReference());
+  TexturePass(*this, gh.gh_first_frame, gh.gh_frame_count).decode();
+}
+
+void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& onTexture,
+                           const TextureCallback& prepareTexture) {
+  Decoding(*this, onFrame, onTexture, prepareTexture).run();
 }
 
 }  // namespace tdvo

@@ -103,6 +103,8 @@ class StreamDecoder {
   const std::vector<uint32_t>& gomStarts() const { return gomStarts_; }
 
  private:
+  class Decoding;  // one run of decode() (stream_decoder.cpp)
+
   const uint8_t* data_ = nullptr;
   size_t size_ = 0;
   UnitSource* source_ = nullptr;  // when not decoding from data_

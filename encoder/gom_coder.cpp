@@ -1,14 +1,14 @@
 #include "encoder/gom_coder.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 #include <utility>
 
 #include "bitstream/syntax.h"
 #include "common/core/error.h"
-#include "common/geometry/keyframes.h"
-#include "decoder/pmesh_decoder.h"
+#include "decoder/gom_decoder.h"
 #include "encoder/keyframe_selection.h"
 #include "encoder/pmesh_encoder.h"
 
@@ -16,7 +16,13 @@ namespace tdvo {
 
 namespace {
 
-class GomCoder {
+// Codes one GOM. The frames come out of a GomDecoder (decoder/gom_decoder.h), the decoder's
+// GOM loop, for which this class is the source of units (GomUnits): when the decoder needs the
+// I mesh of a frame, or the P mesh of a keyframe, the encoder codes it there and then, from the
+// reference the decoder holds, and hands it the payload. The frames the encoder reports are
+// then the decoder's, made by the decoder's code; for P meshes the reconstruction the encoder's
+// own writer made is checked against them (closed loop).
+class GomCoder : public GomUnits {
  public:
   GomCoder(const EncoderParams& params, const Grid& grid, size_t first, std::vector<Mesh> frames,
            const std::function<std::string(size_t)>& frameName, const GomContinuation* continuation,
@@ -39,24 +45,23 @@ class GomCoder {
     // Only the quantised frames are kept: each input mesh is released once on the grid, and in a
     // GOM of P meshes only the first frame keeps its triangles (memory is what bounds the
     // largest meshes a GOM can hold).
-    std::vector<IntMesh> inputs;
     for (Mesh& mesh : frames_) {
-      inputs.push_back(grid_.quantise(mesh));
+      inputs_.push_back(grid_.quantise(mesh));
       mesh = Mesh();
       // In a GOM of P meshes the first frame speaks for all (the others must have its triangles).
-      countDegenerateTriangles(inputs.size() - 1, inputs.back());
+      countDegenerateTriangles(inputs_.size() - 1, inputs_.back());
     }
     if (pMeshes) {
-      checkConstantConnectivity(inputs);
+      checkConstantConnectivity(inputs_);
       for (size_t k = 1; k < count; ++k)
-        std::vector<Triangle>().swap(inputs[k].triangles);
+        std::vector<Triangle>().swap(inputs_[k].triangles);
     }
 
-    const size_t inputVertices = inputs[0].positions.size();
+    const size_t inputVertices = inputs_[0].positions.size();
     // Continue the previous GOM's connectivity (no I mesh) when it is the same.
     const bool continues = pMeshes && continuation_ && continuation_->iMesh &&
                            continuation_->inputVertices == inputVertices &&
-                           continuation_->inputTriangles == inputs[0].triangles;
+                           continuation_->inputTriangles == inputs_[0].triangles;
 
     GomHeader gh;
     gh.gh_random_access = continues ? 0 : 1;
@@ -67,7 +72,7 @@ class GomCoder {
     gh.gh_max_octree_depth = static_cast<uint8_t>(pmParams_.maxDepth);
     if (pMeshes) {
       std::vector<std::vector<Vec3i>> positions;
-      for (const IntMesh& m : inputs)
+      for (const IntMesh& m : inputs_)
         positions.push_back(m.positions);
       const std::vector<int> keys =
           selectKeyframes(positions, params_.keyframeCount, params_.keyframeMaxError);
@@ -75,51 +80,64 @@ class GomCoder {
     }
     out_.units.push_back({UnitType::kGomHeader, serialise(gh)});
 
-    if (!pMeshes) {
-      if (next_) *next_ = GomContinuation();
-      for (size_t k = 0; k < count; ++k) {
-        codeIMesh(k, inputs[k]);
-        emit(out_.iMeshes.back().decoded.positions, std::move(inputs[k].positions));
-      }
-      return std::move(out_);
+    // A continuing GOM starts from the previous GOM's connectivity and last frame.
+    GomReference continued;
+    if (continues) {
+      out_.iMeshes.push_back(*continuation_->iMesh);
+      continued.mesh = {continuation_->last, continuation_->iMesh->decoded.triangles};
+    }
+    decoder_.start(gh, params_.gridBits, "encoder's own GOM", continues ? &continued : nullptr);
+    for (size_t k = 0; k < count; ++k) {
+      const std::vector<Vec3i>& positions = decoder_.next(*this);
+      if (k == pendingFrame_ && positions != pending_)
+        throw std::logic_error("P-mesh reconstruction differs from the decoder's (frame " +
+                               std::to_string(first_ + k) + ")");
+      emit(positions, std::move(inputs_[k].positions));
     }
 
-    if (continues)
-      out_.iMeshes.push_back(*continuation_->iMesh);
-    else
-      codeIMesh(0, inputs[0]);
-    const IMeshEncoding& i = out_.iMeshes.back();
-    const GomTopology topology =
-        params_.pmeshMode == PMeshMode::kD3dmc ? GomTopology::build(i.decoded) : GomTopology();
-    std::vector<Vec3i> previous, target(i.inputIndex.size());
-    if (continues) {
-      // The first frame: a P mesh from the previous GOM's last frame.
-      for (size_t j = 0; j < target.size(); ++j)
-        target[j] = inputs[0].positions[i.inputIndex[j]];
-      previous = codePMesh(0, topology, continuation_->last, target);
-    } else {
-      previous = i.decoded.positions;
-    }
-    emit(previous, std::move(inputs[0].positions));
-    for (size_t n = 1; n < gh.keyframes.size(); ++n) {
-      const int a = gh.keyframes[n - 1], b = gh.keyframes[n];
-      // The keyframe's target in the GOM's vertex order (Draco's decoded order).
-      for (size_t j = 0; j < target.size(); ++j)
-        target[j] = inputs[b].positions[i.inputIndex[j]];
-      std::vector<Vec3i> key = codePMesh(b, topology, previous, target);
-      for (int f = a + 1; f < b; ++f)
-        emit(interpolateFrame(previous, key, a, b, f), std::move(inputs[f].positions));
-      emit(key, std::move(inputs[b].positions));
-      previous = std::move(key);
-    }
-    if (next_) {
-      next_->iMesh = continues ? continuation_->iMesh
-                               : std::make_shared<const IMeshEncoding>(out_.iMeshes.back());
-      next_->inputTriangles = std::move(inputs[0].triangles);
-      next_->inputVertices = inputVertices;
-      next_->last = std::move(previous);
+    // (`next` may be `continuation` itself: read it before writing.)
+    if (next_ && pMeshes) {
+      GomContinuation following;
+      following.iMesh = continues ? continuation_->iMesh
+                                  : std::make_shared<const IMeshEncoding>(out_.iMeshes.back());
+      following.inputTriangles = std::move(inputs_[0].triangles);
+      following.inputVertices = inputVertices;
+      following.last = decoder_.reference();  // the last keyframe: the GOM's last frame
+      *next_ = std::move(following);
+    } else if (next_) {
+      *next_ = GomContinuation();
     }
     return std::move(out_);
+  }
+
+  // GomUnits: the I mesh of GOM frame k, coded now.
+  void iMesh(uint32_t k, IntMesh& mesh, std::string& where) override {
+    codeIMesh(k, inputs_[k]);
+    mesh = out_.iMeshes.back().decoded;
+    where = name(k);  // its connectivity is the input frame's
+  }
+
+  // GomUnits: the P mesh of keyframe k, coded now from the decoder's reference (the previous
+  // decoded keyframe).
+  PMeshPayload pMesh(uint32_t k) override {
+    const IMeshEncoding& i = out_.iMeshes.back();
+    // The keyframe's target in the GOM's vertex order (Draco's decoded order).
+    target_.resize(i.inputIndex.size());
+    for (size_t j = 0; j < target_.size(); ++j)
+      target_[j] = inputs_[k].positions[i.inputIndex[j]];
+    const std::vector<Vec3i>& previous = decoder_.reference();
+    PMeshEncoding p = params_.pmeshMode == PMeshMode::kD3dmc
+                          ? encodePMesh(decoder_.topology(), previous, target_, pmParams_,
+                                        params_.effectiveLambda())
+                          : encodeTemporalDpcm(previous, target_, pmParams_);
+    PMeshUnit pm;
+    pm.pm_frame = static_cast<uint32_t>(first_ + k);
+    pm.pm_cabac_payload = std::move(p.payload);
+    out_.units.push_back({UnitType::kPMesh, serialise(pm)});
+    payload_ = std::move(pm.pm_cabac_payload);
+    pendingFrame_ = k;
+    pending_ = std::move(p.reconstruction);
+    return {payload_.data(), payload_.size(), "encoder's own P mesh", nullptr};
   }
 
  private:
@@ -186,36 +204,10 @@ class GomCoder {
     out_.iMeshes.push_back(std::move(i));
   }
 
-  std::vector<Vec3i> codePMesh(size_t k, const GomTopology& topology,
-                               const std::vector<Vec3i>& previous,
-                               const std::vector<Vec3i>& target) {
-    const bool d3dmc = params_.pmeshMode == PMeshMode::kD3dmc;
-    PMeshEncoding p =
-        d3dmc ? encodePMesh(topology, previous, target, pmParams_, params_.effectiveLambda())
-              : encodeTemporalDpcm(previous, target, pmParams_);
-    // Closed loop: what the decoder makes of the payload must be the encoder's
-    // reconstruction, bit for bit.
-    const std::string context = "encoder's own P mesh";
-    if (d3dmc)
-      decodePMesh(p.payload.data(), p.payload.size(), topology, previous, pmParams_, context, work_,
-                  decoded_);
-    else
-      decodeTemporalDpcm(p.payload.data(), p.payload.size(), previous, pmParams_, context,
-                         decoded_);
-    if (decoded_ != p.reconstruction)
-      throw std::logic_error("P-mesh reconstruction differs from the decoder's (frame " +
-                             std::to_string(first_ + k) + ")");
-    PMeshUnit pm;
-    pm.pm_frame = static_cast<uint32_t>(first_ + k);
-    pm.pm_cabac_payload = std::move(p.payload);
-    out_.units.push_back({UnitType::kPMesh, serialise(std::move(pm))});
-    return std::move(p.reconstruction);
-  }
-
   // The next frame of the GOM is final; `input` (its quantised input positions) is not needed
   // here any more.
-  void emit(std::vector<Vec3i> positions, std::vector<Vec3i>&& input) {
-    out_.frames.push_back({std::move(positions), out_.iMeshes.size() - 1, std::move(input)});
+  void emit(const std::vector<Vec3i>& positions, std::vector<Vec3i>&& input) {
+    out_.frames.push_back({positions, out_.iMeshes.size() - 1, std::move(input)});
   }
 
   const EncoderParams& params_;
@@ -226,8 +218,12 @@ class GomCoder {
   const GomContinuation* continuation_;
   GomContinuation* next_;
   PMeshParams pmParams_;
-  PMeshWorkspace work_;         // the closed-loop decoder's buffers, reused frame to frame
-  std::vector<Vec3i> decoded_;  // its output
+  std::vector<IntMesh> inputs_;     // the frames on the grid
+  GomDecoder decoder_;              // makes the GOM's frames from the units coded here
+  std::vector<Vec3i> target_;       // a keyframe's input in the GOM's vertex order
+  std::vector<uint8_t> payload_;    // the last P mesh's payload, while the decoder reads it
+  size_t pendingFrame_ = SIZE_MAX;  // the last P mesh's frame and the encoder's reconstruction
+  std::vector<Vec3i> pending_;
   GomGeometry out_;
 };
 

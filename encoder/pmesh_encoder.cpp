@@ -34,12 +34,16 @@ class RdDecisions {
     for (uint32_t v = 0; v < n; ++v)
       for (int c = 0; c < 3; ++c)
         motion_[v][c] = target[v][c] - previous[v][c];
-    // Open-loop residual cost of every vertex: prediction from all neighbours' true motions.
-    const std::vector<uint8_t> all(n, 1);
+    // Open-loop residual cost of every vertex: prediction from all neighbours' true motions
+    // (the decoder's predictor, every motion available).
+    std::vector<MotionRecord> all(n);
+    for (uint32_t v = 0; v < n; ++v)
+      all[v].motion = Lanes4{motion_[v][0], motion_[v][1], motion_[v][2], -1};
+    const RingView rings = topology.vertexRings();
     residualBits_.resize(n);
     residualDistortion_.resize(n);
     for (uint32_t v = 0; v < n; ++v) {
-      const Vec3i p = predictMotion(topology, v, motion_, all, Vec3i{0, 0, 0});
+      const Vec3i p = predictMotion(rings, all.data(), v, Vec3i{0, 0, 0});
       double bits = 0, distortion = 0;
       for (int c = 0; c < 3; ++c) {
         const int64_t r = roundDiv(motion_[v][c] - p[c], params.quantStep);

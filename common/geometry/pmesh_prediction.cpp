@@ -143,30 +143,15 @@ GomTopology GomTopology::build(const IntMesh& iMesh) {
   return t;
 }
 
-Vec3i predictMotion(const GomTopology& t, uint32_t v, const std::vector<Vec3i>& motion,
+Vec3i predictMotion(const GomTopology& topology, uint32_t v, const std::vector<Vec3i>& motion,
                     const std::vector<uint8_t>& available, const Vec3i& fallback) {
-  int64_t sN[3] = {0, 0, 0}, sP[3] = {0, 0, 0};
-  int64_t k = 0, kp = 0;
-  for (uint32_t i = t.neighbourStart[v]; i < t.neighbourStart[v + 1]; ++i) {
-    const uint32_t u = t.neighbours[i];
-    if (!available[u]) continue;
-    ++k;
-    for (int c = 0; c < 3; ++c)
-      sN[c] += motion[u][c];
-  }
-  if (k == 0) return fallback;
-  for (uint32_t i = t.wingStart[v]; i < t.wingStart[v + 1]; ++i) {
-    const auto& w = t.wings[i];
-    if (!available[w[0]] || !available[w[1]] || !available[w[2]]) continue;
-    ++kp;
-    for (int c = 0; c < 3; ++c)
-      sP[c] += int64_t{motion[w[0]][c]} + motion[w[1]][c] - motion[w[2]][c];
-  }
-  Vec3i p;
-  for (int c = 0; c < 3; ++c)
-    p[c] = static_cast<int32_t>(kp == 0 ? roundDiv(sN[c], k)
-                                        : roundDiv(kp * sN[c] + k * sP[c], 2 * k * kp));
-  return p;
+  std::vector<MotionRecord> records(topology.numVertices);
+  for (uint32_t u = 0; u < topology.numVertices; ++u)
+    if (available[u])
+      records[u].motion = Lanes4{motion[u][0], motion[u][1], motion[u][2], -1};
+    else
+      records[u].motion = Lanes4{0, 0, 0, 0};
+  return predictMotion(topology.vertexRings(), records.data(), v, fallback);
 }
 
 void OctreePartition::split(const std::vector<Vec3i>& positions, uint32_t* begin, uint32_t* end,

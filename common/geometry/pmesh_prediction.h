@@ -13,6 +13,16 @@
 
 namespace tdvo {
 
+// The 1-rings and wings of a GOM's vertices as flat arrays (GomTopology's, in vertex space or in
+// rank space): vertex v's neighbours are neighbours[neighbourStart[v] .. neighbourStart[v+1]),
+// its wings wings[wingStart[v] .. wingStart[v+1]); both index the records of that space.
+struct RingView {
+  const uint32_t* neighbourStart;
+  const uint32_t* neighbours;
+  const uint32_t* wingStart;
+  const std::array<uint32_t, 3>* wings;
+};
+
 // Connectivity facts of a GOM's I mesh that P-mesh prediction uses.
 struct GomTopology {
   uint32_t numVertices = 0;
@@ -40,6 +50,15 @@ struct GomTopology {
   // Throws Error when pairs of triangles on shared edges exceed three per triangle (more than
   // two triangles on some edges; the wings would grow quadratically), before allocating them.
   static GomTopology build(const IntMesh& iMesh);
+
+  // The rings and wings as a RingView: indexed by vertex, or by rank.
+  RingView vertexRings() const {
+    return {neighbourStart.data(), neighbours.data(), wingStart.data(), wings.data()};
+  }
+  RingView rankRings() const {
+    return {rankNeighbourStart.data(), rankNeighbours.data(), rankWingStart.data(),
+            rankWings.data()};
+  }
 };
 
 // ceil(2^64 / b) for the divisors b in [2, kCount) that floorDiv handles by multiplication.
@@ -74,16 +93,114 @@ inline int64_t roundDiv(int64_t num, int64_t den) {
   return floorDiv(2 * num + den, 2 * den);
 }
 
-// The motion predictor of vertex v from motions already final (available[u] != 0):
+// Four int32 lanes that + and - combine lane by lane, one SIMD instruction each (a GCC/Clang
+// vector extension): x, y, z and a count.
+using Lanes4 = int32_t __attribute__((vector_size(16)));
+// The same lanes widened to int64, for sums that could overflow int32.
+using Wide4 = int64_t __attribute__((vector_size(32)));
+
+// What the predictor knows about one vertex (and what codePMesh, bitstream/pmesh_syntax.h,
+// keeps per vertex while it codes a P mesh). 32 bytes, so that the neighbour loops read one
+// cache line per neighbour. Each half is four lanes whose last lane is a flag, so that summing
+// records over a 1-ring also counts the flags. Two invariants let those loops add without
+// branching: a vertex whose motion is not final yet has motion (0, 0, 0), and absResidual is
+// (0, 0, 0) unless the vertex has a decoded residual. Motions and residuals are at most 2^21 in
+// magnitude (kMaxMotion; any motion on a grid of at most 20 bits).
+struct MotionRecord {
+  // m[v] in lanes 0-2; lane 3 "available": -1 (all bits set, a ready-made mask) when the motion
+  // is final, else 0.
+  Lanes4 motion{0, 0, 0, -1};
+  // |residual| per component in lanes 0-2 once decoded; lane 3 "hasResidual": 1 once decoded.
+  Lanes4 absResidual{0, 0, 0, 0};
+};
+static_assert(sizeof(MotionRecord) == 32, "one record per half cache line");
+
+// The residual statistics of a vertex's 1-ring (for the residual's context, pmesh_syntax.h):
+// sums[c] the sum of |residual| in component c over the neighbours with a decoded residual,
+// sums[3] how many they are (the absResidual lanes, summed).
+struct RingResiduals {
+  int64_t sums[4];
+  int64_t count() const { return sums[3]; }
+};
+
+namespace detail {
+
+template <bool kResiduals>
+inline Vec3i predictMotion(const RingView rings, const MotionRecord* records, uint32_t v,
+                           const Vec3i& fallback, RingResiduals* residuals) {
+  // Over the 1-ring: sN and -k (k available neighbours) from the motion lanes, the residual
+  // statistics and their count from the absResidual lanes. Lanes add in int32 in runs of at
+  // most kRun terms, each run then widened: |motion|, |residual| <= 2^21, |m_a + m_b - m_o|
+  // <= 3 * 2^21, so a run cannot overflow, and a ring of any size sums exactly.
+  constexpr uint32_t kRun = 256;
+  Wide4 motionSum{0, 0, 0, 0}, residualSum{0, 0, 0, 0};
+  for (uint32_t i = rings.neighbourStart[v], end = rings.neighbourStart[v + 1]; i < end;
+       i += kRun) {
+    Lanes4 m{0, 0, 0, 0}, a{0, 0, 0, 0};
+    const uint32_t runEnd = end - i > kRun ? i + kRun : end;
+    for (uint32_t j = i; j < runEnd; ++j) {
+      const MotionRecord& u = records[rings.neighbours[j]];
+      m += u.motion;
+      if constexpr (kResiduals) a += u.absResidual;
+    }
+    motionSum += __builtin_convertvector(m, Wide4);
+    if constexpr (kResiduals) residualSum += __builtin_convertvector(a, Wide4);
+  }
+  if constexpr (kResiduals)
+    for (int c = 0; c < 4; ++c)
+      residuals->sums[c] = residualSum[c];
+  const int64_t k = -motionSum[3];
+  if (k == 0) return fallback;
+  // Wings (a, b, o) with all three available: sP = sum of m_a + m_b - m_o, and -kp in lane 3
+  // (-1 - 1 + 1).
+  int64_t p[4] = {};
+  for (uint32_t i = rings.wingStart[v], end = rings.wingStart[v + 1]; i < end; i += kRun) {
+    Lanes4 run{0, 0, 0, 0};
+    const uint32_t runEnd = end - i > kRun ? i + kRun : end;
+    for (uint32_t j = i; j < runEnd; ++j) {
+      const Lanes4 a = records[rings.wings[j][0]].motion, b = records[rings.wings[j][1]].motion,
+                   o = records[rings.wings[j][2]].motion;
+      const Lanes4 all = a & b & o;
+      run += (a + b - o) & Lanes4{all[3], all[3], all[3], all[3]};
+    }
+    for (int c = 0; c < 4; ++c)
+      p[c] += run[c];
+  }
+  const int64_t kp = -p[3];
+  Vec3i prediction;
+  for (int c = 0; c < 3; ++c) {
+    const int64_t sN = motionSum[c], sP = p[c];
+    prediction[c] =
+        static_cast<int32_t>(kp == 0 ? roundDiv(sN, k) : roundDiv(kp * sN + k * sP, 2 * k * kp));
+  }
+  return prediction;
+}
+
+}  // namespace detail
+
+// The motion predictor, the only one: encoder and decoder (codePMesh, pmesh_syntax.h) and the
+// encoder's rate estimate (pmesh_encoder.cpp) all call it. The prediction of vertex v from the
+// motions already final (records whose "available" lane is set):
 //   k  available 1-ring neighbours, sN = sum of their motions;
 //   kp wings (a, b, o) with a, b, o all available, sP = sum of (m_a + m_b - m_o);
 //   k == 0          -> fallback
 //   kp == 0         -> roundDiv(sN, k)                   (mean of neighbours)
 //   otherwise       -> roundDiv(kp * sN + k * sP, 2 k kp) (average of the mean of neighbours and
 //                                                          the mean parallelogram prediction)
-// codePMesh (pmesh_syntax.h), which encoder and decoder share, computes the same sums fused with
-// its context statistics over its own per-vertex records; this plain form serves the encoder's
-// rate estimate and the tests.
+// `rings` and `records` are in the same space (vertex indices or breadth-first ranks).
+inline Vec3i predictMotion(const RingView rings, const MotionRecord* records, uint32_t v,
+                           const Vec3i& fallback) {
+  return detail::predictMotion<false>(rings, records, v, fallback, nullptr);
+}
+
+// The same, summing the ring's residual statistics (`residuals`) in the same neighbour loop.
+inline Vec3i predictMotion(const RingView rings, const MotionRecord* records, uint32_t v,
+                           const Vec3i& fallback, RingResiduals& residuals) {
+  return detail::predictMotion<true>(rings, records, v, fallback, &residuals);
+}
+
+// Convenience form (tests, single vertices): records made from `motion` (in vertex order) and
+// `available` (nonzero: final), then the predictor above. O(vertex count) per call.
 Vec3i predictMotion(const GomTopology& topology, uint32_t v, const std::vector<Vec3i>& motion,
                     const std::vector<uint8_t>& available, const Vec3i& fallback);
 
