@@ -1693,6 +1693,12 @@ CATALOGUE_TEST(F19) {
   expectRow("F19", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
 }
 
+CATALOGUE_TEST(F20) {
+  nlohmann::json j = sphereGltf();
+  j["buffers"][0]["uri"] = "b.bin";
+  expectRow("F20", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
+}
+
 // ---- cfg and options (3dvo-enc) ----
 
 CATALOGUE_TEST(C01) {

@@ -276,6 +276,36 @@ TEST(Gltf, ReadsAFileMadeByTinygltf) {
   }
 }
 
+// A .gltf whose buffer is an external file beside it (here the BIN chunk of a .glb, with the
+// .glb's JSON naming it): read from the file's folder, whatever the working folder.
+TEST(Gltf, ExternalBufferFile) {
+  const Mesh m = test::wobblingSphere(2, 1)[0];
+  const std::string glb = formatGltf(m, GltfContainer::kGlb);
+  auto le32 = [&](size_t at) {
+    return static_cast<uint32_t>(static_cast<uint8_t>(glb[at])) |
+           static_cast<uint32_t>(static_cast<uint8_t>(glb[at + 1])) << 8 |
+           static_cast<uint32_t>(static_cast<uint8_t>(glb[at + 2])) << 16 |
+           static_cast<uint32_t>(static_cast<uint8_t>(glb[at + 3])) << 24;
+  };
+  const uint32_t jsonLength = le32(12);
+  std::string json = glb.substr(20, jsonLength);
+  const uint32_t binLength = le32(20 + jsonLength);
+  const std::string bin = glb.substr(20 + jsonLength + 8, binLength);
+  const std::string buffers = "\"buffers\":[{";
+  const size_t at = json.find(buffers);
+  ASSERT_NE(at, std::string::npos) << json;
+  json.insert(at + buffers.size(), "\"uri\":\"data%20file.bin\",");
+  test::TempDir dir("gltf-external");
+  std::filesystem::create_directories(dir.path() / "sub");
+  test::writeText(dir.file("sub/m.gltf"), json);
+  test::writeText(dir.file("sub/data file.bin"), bin);
+  expectClose(m, readMesh(dir.file("sub/m.gltf")), 1e-6, "external buffer");
+  // A missing buffer file is an error naming it.
+  std::filesystem::remove(dir.file("sub/data file.bin"));
+  EXPECT_NE(errorOf([&] { readMesh(dir.file("sub/m.gltf")); }).find("data file.bin"),
+            std::string::npos);
+}
+
 // One .glb whose animation is morph targets (a target per frame, STEP weights) is a frame
 // sequence.
 TEST(Gltf, MorphTargetAnimationIsReadAsFrames) {
