@@ -1699,6 +1699,15 @@ CATALOGUE_TEST(F20) {
   expectRow("F20", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
 }
 
+CATALOGUE_TEST(F21) {
+  meshInput(dir_, "000.gltf", "");
+  std::filesystem::remove(dir_.file("in/000.gltf"));
+  std::filesystem::create_symlink("/dev/zero", dir_.file("in/000.gltf"));
+  expectRow(
+      "F21", "3dvo-enc",
+      {"--InputMeshPattern=in/%03d.gltf", "--FrameCount=1", "--GridBits=10", "-o", "out/x.3dvo"});
+}
+
 // ---- cfg and options (3dvo-enc) ----
 
 CATALOGUE_TEST(C01) {

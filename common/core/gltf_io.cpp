@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -595,9 +596,22 @@ std::string folderOf(const std::string& path) {
 
 }  // namespace
 
+namespace {
+
+// A .glb is read up to the binary-file limit; any other name is JSON (.gltf), at most
+// kMaxGltfJsonBytes, so that a .gltf that never ends (/dev/zero) stops there.
+std::vector<uint8_t> readGltfBytes(const std::string& path) {
+  std::string lower = path.size() >= 4 ? path.substr(path.size() - 4) : path;
+  for (char& c : lower)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (lower == ".glb") return readFileBytes(path, kMaxBinaryFileBytes, "a glTF binary file");
+  return readFileBytes(path, kMaxGltfJsonBytes, "a glTF JSON file");
+}
+
+}  // namespace
+
 GltfFile::GltfFile(const std::string& path)
-    : impl_(parseGltf(readFileBytes(path, kMaxBinaryFileBytes, "a glTF file"), path,
-                      folderOf(path))) {}
+    : impl_(parseGltf(readGltfBytes(path), path, folderOf(path))) {}
 
 GltfFile::GltfFile(const std::vector<uint8_t>& bytes, const std::string& name)
     : impl_(parseGltf(bytes, name, "")) {}

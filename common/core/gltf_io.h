@@ -24,8 +24,9 @@
 
 namespace tdvo {
 
-// Limits of the glTF reader (docs/robustness.md, "Input files"): the file (and each external
-// buffer file) at most kMaxBinaryFileBytes (file_io.h); its JSON at most kMaxGltfJsonBytes with
+// Limits of the glTF reader (docs/robustness.md, "Input files"): a .glb (and each external
+// buffer file) at most kMaxBinaryFileBytes (file_io.h), a .gltf at most kMaxGltfJsonBytes; its
+// JSON at most kMaxGltfJsonBytes with
 // at most kMaxGltfJsonValues values nested at most kMaxGltfJsonDepth deep (tinygltf's model
 // grows with the number of JSON values, not with their bytes); each buffer's bytes read once
 // (two buffers naming the same file or the same GLB chunk are refused); and a frame's vertices
