@@ -82,7 +82,7 @@ void checkTextureFrames(const EncoderParams& params, const Dataset& dataset, int
     if (inDataset(dataset, frame)) continue;
     const std::string geometry = params.inputMeshPattern.empty()
                                      ? "frame " + std::to_string(frame)
-                                     : framePath(params.inputMeshPattern, static_cast<int>(frame));
+                                     : inputMeshPath(params, nullptr, static_cast<int>(frame));
     throw Error(geometry + ": geometry frame " + std::to_string(frame) +
                 " has no texture frame in " + datasetName(dataset) + " (" + datasetRange(dataset) +
                 "; geometry and texture frames are tied by frame number)");
