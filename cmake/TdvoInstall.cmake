@@ -1,5 +1,5 @@
-# Install rules (docs/api.md, "Installing and linking"): `cmake --install` puts the 3DVO
-# libraries, their headers under include/tdvo/ (the source tree's paths: common/core/mesh.h,
+# Install rules (docs/api.md, "Installing and linking"): `cmake --install` puts the apps, the
+# 3DVO libraries, their headers under include/tdvo/ (the source tree's paths: common/core/mesh.h,
 # decoder/stream_decoder.h, ...), a CMake package (find_package(tdvo) with imported targets
 # tdvo::core, tdvo::decoder, ...; components decoder, texture, encoder) and pkg-config files
 # (tdvo-decoder.pc: geometry decoding alone; tdvo.pc: everything) in place.
@@ -22,6 +22,9 @@ function(tdvo_library target component)
 endfunction()
 
 function(tdvo_install_package)
+  # The apps, in bin/.
+  install(TARGETS 3dvo-enc 3dvo-dec 3dvo-metrics 3dvo-sample 3dvo-render 3dvo-recon 3dvo-import
+    3dvo-synth RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   foreach(folder common bitstream decoder encoder)
     install(DIRECTORY ${PROJECT_SOURCE_DIR}/${folder}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/tdvo/${folder}
       FILES_MATCHING PATTERN "*.h")
