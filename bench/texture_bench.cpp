@@ -45,8 +45,8 @@
 #include "common/core/obj_io.h"
 #include "common/media/yuv.h"
 #include "common/views/texture_shape.h"
-#include "decoder/h264_decoder.h"
 #include "decoder/stream_decoder.h"
+#include "decoder/texture/h264_decoder.h"
 #include "encoder/sequence_encoder.h"
 #include "encoder/texture_encoder.h"
 #include "tools/multiview/importers.h"
@@ -221,6 +221,7 @@ void streamDecode(benchmark::State& state, SequenceOf sequence, bool textures, i
   const std::vector<uint8_t>& stream = textures ? s.stream : s.geometryStream;
   for (auto _ : state) {
     StreamDecoder decoder(stream.data(), stream.size(), "bench.3dvo");
+    decoder.setPictureDecoder(makeH264Decoder);
     decoder.setThreads(threads);
     decoder.decode([](int, const IntMesh& mesh) { benchmark::DoNotOptimize(geometryDigest(mesh)); },
                    [](int, int, const YuvPicture& picture, const Image&) {

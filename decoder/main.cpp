@@ -35,6 +35,7 @@
 #include "common/views/image.h"
 #include "decoder/decoder_version.h"
 #include "decoder/stream_decoder.h"
+#include "decoder/texture/h264_decoder.h"
 
 using namespace tdvo;
 
@@ -316,6 +317,7 @@ int main(int argc, char** argv) {
     UnitFileReader units(streamPath, streamPath);
     const uint64_t streamBytes = units.fileSize();
     StreamDecoder decoder(units, streamPath, trace ? stderr : nullptr);
+    decoder.setPictureDecoder(makeH264Decoder);
     decoder.setMaxVertexFramesPerByte(static_cast<uint64_t>(maxVertexFramesPerByte));
     decoder.setMaxTexturePixelsPerByte(static_cast<uint64_t>(maxTexturePixelsPerByte));
     decoder.setMaxMeshMemoryPerByte(static_cast<uint64_t>(maxMeshMemoryPerByte));

@@ -13,7 +13,6 @@
 #include "common/core/error.h"
 #include "common/core/ordered_parallel.h"
 #include "decoder/gom_decoder.h"
-#include "decoder/h264_decoder.h"
 #include "decoder/imesh_decoder.h"
 
 namespace tdvo {
@@ -173,7 +172,7 @@ class StreamDecoder::Decoding : public GomUnits {
 
   // Textures.
   std::vector<MaskRenderer> cameras_;
-  std::vector<std::unique_ptr<H264Decoder>> textureDecoders_;  // made with a camera's first unit
+  std::vector<std::unique_ptr<PictureDecoder>> textureDecoders_;  // made with a camera's first unit
   std::vector<uint64_t> cameraPixels_;  // the larger of a camera's frame and texture box
   uint64_t texturePixels_ = 0;          // the camera pixels of the texture units so far
   Grid textureGrid_;
@@ -280,10 +279,15 @@ void StreamDecoder::Decoding::decodeGom() {
   if (beforeRange && gh.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kIntra))
     return skipGom(gh);
   decodeGeometry(gh);
-  if (beforeRange)
-    skipTextures(gh);
-  else if (!cameras_.empty())
-    decodeTextures(gh);
+  if (beforeRange || cameras_.empty()) return skipTextures(gh);
+  // Without a picture decoder (a geometry-only program) textures are read, not decoded, unless
+  // the caller asked for them.
+  if (d_.pictureDecoders_) return decodeTextures(gh);
+  if (onTexture_ || prepareTexture_)
+    throw Error(gomWhere_ +
+                ": the stream has textures and this decoder has no picture decoder (give "
+                "StreamDecoder::setPictureDecoder the texture component's makeH264Decoder)");
+  skipTextures(gh);
 }
 
 GomHeader StreamDecoder::Decoding::readGomHeader() {
@@ -431,9 +435,8 @@ class StreamDecoder::Decoding::TexturePass {
     Decoded d;
     // Only this item uses camera c's decoder now: the camera's next item starts once this one
     // has been consumed.
-    std::unique_ptr<H264Decoder>& decoder = run_.textureDecoders_[c];
-    if (!decoder)
-      decoder = std::make_unique<H264Decoder>(run_.name_ + ": camera " + std::to_string(c));
+    std::unique_ptr<PictureDecoder>& decoder = run_.textureDecoders_[c];
+    if (!decoder) decoder = run_.d_.pictureDecoders_(run_.name_ + ": camera " + std::to_string(c));
     try {
       d.picture = decoder->decode(p.tx.tx_access_unit, box.width, box.height);
     } catch (const Error& e) {

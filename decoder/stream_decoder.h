@@ -5,15 +5,17 @@
 #include <cstdio>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
 #include "common/core/grid.h"
 #include "common/core/mesh.h"
-#include "common/media/yuv.h"
 #include "common/views/image.h"
+#include "common/views/yuv_picture.h"
 #include "decoder/draco_limits.h"
+#include "decoder/picture_decoder.h"
 
 namespace tdvo {
 
@@ -81,6 +83,12 @@ class StreamDecoder {
     rangeCount_ = count;
   }
 
+  // Sets how texture pictures are decoded: one decoder per camera, made by `factory` at the
+  // camera's first texture unit (the texture component's makeH264Decoder,
+  // decoder/texture/h264_decoder.h). Without one (a geometry-only program), a stream's texture
+  // units are read and not decoded, and decode() throws an Error if it was given a texture
+  // callback for a stream with textures.
+  void setPictureDecoder(PictureDecoderFactory factory) { pictureDecoders_ = std::move(factory); }
   // Sets the decoding-work limit (kDefaultMaxVertexFramesPerByte above); 0 lifts it.
   void setMaxVertexFramesPerByte(uint64_t limit) { maxVertexFramesPerByte_ = limit; }
   // Sets the texture-work limit (kDefaultMaxTexturePixelsPerByte above); 0 lifts it.
@@ -118,6 +126,7 @@ class StreamDecoder {
   uint64_t maxMeshMemoryPerByte_ = kDefaultMaxMeshMemoryPerByte;
   int64_t rangeFirst_ = -1, rangeCount_ = 0;  // setFrameRange; -1: from the stream's first
   int threads_ = 1;
+  PictureDecoderFactory pictureDecoders_;
 };
 
 // Grid defined by a sequence header.

@@ -5,7 +5,7 @@
 #include "common/core/ordered_parallel.h"
 #include "common/views/rasteriser.h"
 #include "common/views/texture_shape.h"
-#include "decoder/h264_decoder.h"
+#include "decoder/texture/h264_decoder.h"
 #include "encoder/h264_encoder.h"
 #include "encoder/input_frames.h"
 #include "encoder/texture_padding.h"

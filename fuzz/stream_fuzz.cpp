@@ -13,6 +13,7 @@
 #include "common/core/error.h"
 #include "common/core/md5.h"
 #include "decoder/stream_decoder.h"
+#include "decoder/texture/h264_decoder.h"
 #include "fuzz/fuzz_support.h"
 
 namespace {
@@ -24,6 +25,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   uint64_t vertexFrames = 0;
   try {
     tdvo::StreamDecoder decoder(stream.data(), stream.size(), "fuzz.3dvo");
+    decoder.setPictureDecoder(tdvo::makeH264Decoder);
     decoder.decode([&](int frame, const tdvo::IntMesh& mesh) {
       vertexFrames += mesh.positions.size() + 1;
       if (vertexFrames > kVertexFrameBudget) throw tdvo::Error("fuzz: output budget reached");

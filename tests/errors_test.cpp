@@ -36,6 +36,7 @@
 #include "common/views/image.h"
 #include "decoder/imesh_decoder.h"
 #include "decoder/stream_decoder.h"
+#include "decoder/texture/h264_decoder.h"
 #include "encoder/h264_encoder.h"
 #include "encoder/imesh_encoder.h"
 #include "encoder/sequence_encoder.h"
@@ -445,6 +446,7 @@ TEST(Catalogue, EveryRowHasATestAndEveryTestARow) {
 TEST(Catalogue, BaseStreamDecodes) {
   const std::vector<uint8_t>& s = baseStream();
   StreamDecoder decoder(s.data(), s.size(), "base");
+  decoder.setPictureDecoder(makeH264Decoder);
   int frames = 0;
   decoder.decode([&](int, const IntMesh&) { ++frames; });
   EXPECT_EQ(frames, kFrames);
@@ -1025,6 +1027,7 @@ TEST(VertexOrder, DegenerateTriangleDecodesInPlace) {
   units[3].payload = vertexOrderWithDegenerate({5}, {{3, 3, 7}});
   const std::vector<uint8_t> stream = join(units);
   StreamDecoder decoder(stream.data(), stream.size(), "in.3dvo");
+  decoder.setPictureDecoder(makeH264Decoder);
   std::vector<IntMesh> frames;
   decoder.decode([&](int, const IntMesh& m) { frames.push_back(m); });
   ASSERT_FALSE(frames.empty());
@@ -2125,6 +2128,7 @@ int decodeWithLimit(const std::vector<uint8_t>& stream, uint64_t limit, std::str
   int frames = 0;
   try {
     StreamDecoder decoder(stream.data(), stream.size(), "x.3dvo");
+    decoder.setPictureDecoder(makeH264Decoder);
     decoder.setMaxVertexFramesPerByte(limit);
     decoder.decode([&](int, const IntMesh&) { ++frames; });
   } catch (const Error& e) {
@@ -2196,6 +2200,7 @@ TEST(DecodingWork, TheDecoderOptionSetsTheLimit) {
 std::string decodeError(const std::vector<uint8_t>& stream) {
   try {
     StreamDecoder decoder(stream.data(), stream.size(), "x.3dvo");
+    decoder.setPictureDecoder(makeH264Decoder);
     decoder.decode([](int, const IntMesh&) {});
   } catch (const Error& e) {
     return e.what();

@@ -32,6 +32,7 @@
 #include "common/core/ply_io.h"
 #include "decoder/imesh_decoder.h"
 #include "decoder/stream_decoder.h"
+#include "decoder/texture/h264_decoder.h"
 #include "encoder/h264_encoder.h"
 #include "encoder/sequence_encoder.h"
 #include "fuzz/fuzz_support.h"
@@ -134,6 +135,7 @@ std::string decodeMeasured(const std::vector<uint8_t>& stream, uint64_t& rise) {
     std::string result = "ok";
     try {
       StreamDecoder decoder(stream.data(), stream.size(), "x.3dvo");
+      decoder.setPictureDecoder(makeH264Decoder);
       decoder.decode([](int, const IntMesh&) {}, [](int, int, const YuvPicture&, const Image&) {});
     } catch (const Error& e) {
       result = std::string("error: ") + e.what();
@@ -153,6 +155,7 @@ std::string decodeWithinBound(const std::vector<uint8_t>& stream,
                               uint64_t meshMemoryPerByte = kDefaultMaxMeshMemoryPerByte) {
   return runWithinBound(stream.size(), [&] {
     StreamDecoder decoder(stream.data(), stream.size(), "x.3dvo");
+    decoder.setPictureDecoder(makeH264Decoder);
     decoder.setMaxMeshMemoryPerByte(meshMemoryPerByte);
     decoder.decode([](int, const IntMesh&) {}, [](int, int, const YuvPicture&, const Image&) {});
   });
@@ -365,6 +368,7 @@ TEST(Memory, MeshesTheLimitPassesDecodeWithinTheBound) {
   EXPECT_NE(outcome.find("MaxMeshMemoryPerByte"), std::string::npos) << outcome;
   const std::string lifted = runWithinBound(0, [&] {
     StreamDecoder decoder(refused.data(), refused.size(), "x.3dvo");
+    decoder.setPictureDecoder(makeH264Decoder);
     decoder.setMaxMeshMemoryPerByte(0);
     decoder.decode([](int, const IntMesh&) {});
   });

@@ -7,7 +7,7 @@
 #include "common/core/error.h"
 #include "common/media/yuv.h"
 #include "common/views/texture_shape.h"
-#include "decoder/h264_decoder.h"
+#include "decoder/texture/h264_decoder.h"
 #include "encoder/h264_encoder.h"
 #include "encoder/texture_padding.h"
 

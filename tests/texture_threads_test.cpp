@@ -23,6 +23,7 @@
 #include "common/media/yuv.h"
 #include "common/views/image.h"
 #include "decoder/stream_decoder.h"
+#include "decoder/texture/h264_decoder.h"
 #include "encoder/sequence_encoder.h"
 #include "encoder/texture_encoder.h"
 #include "tests/test_support.h"
@@ -106,6 +107,7 @@ Encoded encode(int threads) {
 Calls decode(const std::vector<uint8_t>& stream, int threads, std::string* error = nullptr) {
   Calls calls;
   StreamDecoder decoder(stream.data(), stream.size(), "rig.3dvo");
+  decoder.setPictureDecoder(makeH264Decoder);
   decoder.setThreads(threads);
   try {
     decoder.decode([&](int frame, const IntMesh& mesh) { calls.frame(frame, mesh); },

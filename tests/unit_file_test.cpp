@@ -11,6 +11,7 @@
 #include "common/core/error.h"
 #include "common/core/md5.h"
 #include "decoder/stream_decoder.h"
+#include "decoder/texture/h264_decoder.h"
 #include "encoder/sequence_encoder.h"
 #include "tests/test_support.h"
 
@@ -106,9 +107,11 @@ TEST(UnitFileReader, StreamDecoderDecodesTheSameFrames) {
   test::writeBytes(dir.file("s.3dvo"), stream);
   std::vector<std::string> fromMemory, fromFile;
   StreamDecoder memory(stream.data(), stream.size(), "s.3dvo");
+  memory.setPictureDecoder(makeH264Decoder);
   memory.decode([&](int f, const IntMesh& m) { fromMemory.push_back(geometryHashLine(f, m)); });
   UnitFileReader units(dir.file("s.3dvo"), "s.3dvo");
   StreamDecoder file(units, "s.3dvo");
+  file.setPictureDecoder(makeH264Decoder);
   file.decode([&](int f, const IntMesh& m) { fromFile.push_back(geometryHashLine(f, m)); });
   ASSERT_EQ(fromMemory.size(), 7u);
   EXPECT_EQ(fromFile, fromMemory);

@@ -36,13 +36,6 @@ std::unique_ptr<SwsContext, SwsDeleter> converter(int width, int height, AVPixel
 
 }  // namespace
 
-YuvPicture::YuvPicture(int w, int h, uint8_t fill)
-    : width(w),
-      height(h),
-      y(static_cast<size_t>(w) * h, fill),
-      u(static_cast<size_t>(w / 2) * (h / 2), fill),
-      v(static_cast<size_t>(w / 2) * (h / 2), fill) {}
-
 YuvPicture rgbToYuv420(const Image& rgb) {
   check(rgb.channels == 3, "rgbToYuv420 needs an RGB image");
   check(rgb.width > 0 && rgb.height > 0 && rgb.width % 2 == 0 && rgb.height % 2 == 0,
@@ -67,19 +60,6 @@ Image yuv420ToRgb(const YuvPicture& picture) {
   const int dstStride[1] = {picture.width * 3};
   sws_scale(c.get(), src, srcStride, 0, picture.height, dst, dstStride);
   return out;
-}
-
-Md5Digest pictureDigest(const YuvPicture& picture) {
-  Md5 md5;
-  md5.update(picture.y.data(), picture.y.size());
-  md5.update(picture.u.data(), picture.u.size());
-  md5.update(picture.v.data(), picture.v.size());
-  return md5.finish();
-}
-
-std::string textureHashLine(int frame, int camera, const YuvPicture& picture) {
-  return "MD5 frame=" + std::to_string(frame) + " texture cam=" + std::to_string(camera) + " " +
-         toHex(pictureDigest(picture));
 }
 
 }  // namespace tdvo

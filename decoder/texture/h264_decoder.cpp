@@ -1,4 +1,4 @@
-#include "decoder/h264_decoder.h"
+#include "decoder/texture/h264_decoder.h"
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -81,6 +81,10 @@ YuvPicture H264Decoder::decode(const std::vector<uint8_t>& accessUnit, int width
   copyPlane(2, out.v, width / 2, height / 2);
   av_frame_unref(frame_);
   return out;
+}
+
+std::unique_ptr<PictureDecoder> makeH264Decoder(const std::string& context) {
+  return std::make_unique<H264Decoder>(context);
 }
 
 }  // namespace tdvo
