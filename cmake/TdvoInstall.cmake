@@ -19,9 +19,50 @@ function(tdvo_library target component)
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   set_property(GLOBAL APPEND PROPERTY TDVO_INSTALLED_LIBRARIES ${target})
   set_property(GLOBAL APPEND PROPERTY TDVO_COMPONENT_${component} ${exportName})
+  set_property(GLOBAL PROPERTY TDVO_COMPONENT_OF_${target} ${component})
+endfunction()
+
+# The shared variant of an installed library: the same object files (everything is compiled
+# position-independent), linked against the shared variants of the 3DVO libraries it uses.
+# Named lib<target>.so beside lib<target>.a; imported target tdvo::<name>_shared. Not made in
+# sanitizer builds.
+function(tdvo_shared_library target)
+  string(REGEX REPLACE "^tdvo_" "" exportName "${target}")
+  add_library(${target}_shared SHARED $<TARGET_OBJECTS:${target}>)
+  set_target_properties(${target}_shared PROPERTIES OUTPUT_NAME ${target}
+    EXPORT_NAME ${exportName}_shared VERSION ${PROJECT_VERSION}
+    SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR}
+    INSTALL_RPATH "$ORIGIN")  # the other 3DVO libraries it uses are beside it
+  target_include_directories(${target}_shared PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/tdvo>)
+  get_target_property(all ${target} LINK_LIBRARIES)
+  get_target_property(public ${target} INTERFACE_LINK_LIBRARIES)
+  foreach(kind all public)
+    set(mapped "")
+    foreach(l ${${kind}})
+      if(l MATCHES "^\\$<LINK_ONLY:")
+        continue()
+      elseif(TARGET ${l} AND l MATCHES "^tdvo_")
+        list(APPEND mapped ${l}_shared)
+      else()
+        list(APPEND mapped ${l})
+      endif()
+    endforeach()
+    set(${kind}Mapped ${mapped})
+  endforeach()
+  target_link_libraries(${target}_shared PUBLIC ${publicMapped} PRIVATE ${allMapped})
+  get_property(component GLOBAL PROPERTY TDVO_COMPONENT_OF_${target})
+  install(TARGETS ${target}_shared EXPORT tdvo-${component}-targets
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 endfunction()
 
 function(tdvo_install_package)
+  get_property(installed GLOBAL PROPERTY TDVO_INSTALLED_LIBRARIES)
+  if(NOT TDVO_SANITIZE AND NOT TDVO_FUZZ)
+    foreach(l ${installed})
+      tdvo_shared_library(${l})
+    endforeach()
+  endif()
   # The apps, in bin/.
   install(TARGETS 3dvo-enc 3dvo-dec 3dvo-metrics 3dvo-sample 3dvo-render 3dvo-recon 3dvo-import
     3dvo-synth RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
