@@ -6,28 +6,11 @@
 
 #include "common/core/error.h"
 #include "common/core/file_io.h"
+#include "common/core/text_tokens.h"
 
 namespace tdvo {
 
 namespace {
-
-bool isSpace(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
-}
-
-// Splits a line into whitespace-separated tokens (no allocation beyond the vector).
-void tokenize(std::string_view line, std::vector<std::string_view>& tokens) {
-  tokens.clear();
-  size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && isSpace(line[i]))
-      ++i;
-    size_t start = i;
-    while (i < line.size() && !isSpace(line[i]))
-      ++i;
-    if (i > start) tokens.push_back(line.substr(start, i - start));
-  }
-}
 
 class ObjParser {
  public:

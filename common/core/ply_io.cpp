@@ -8,6 +8,7 @@
 
 #include "common/core/error.h"
 #include "common/core/file_io.h"
+#include "common/core/text_tokens.h"
 
 namespace tdvo {
 
@@ -73,23 +74,6 @@ struct Element {
   std::vector<Role> roles;
   bool isVertex = false, isFace = false;
 };
-
-bool isSpace(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
-}
-
-void tokenize(std::string_view line, std::vector<std::string_view>& tokens) {
-  tokens.clear();
-  size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && isSpace(line[i]))
-      ++i;
-    const size_t start = i;
-    while (i < line.size() && !isSpace(line[i]))
-      ++i;
-    if (i > start) tokens.push_back(line.substr(start, i - start));
-  }
-}
 
 class PlyParser {
  public:

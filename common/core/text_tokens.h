@@ -1,0 +1,28 @@
+// Splitting a text line into whitespace-separated tokens, as the OBJ and PLY readers do.
+#pragma once
+
+#include <string_view>
+#include <vector>
+
+namespace tdvo {
+
+// Whitespace within a line (the line end '\n' is the readers' own concern).
+inline bool isSpace(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
+
+// The line's tokens, as views into it; `tokens` is reused (cleared first).
+inline void tokenize(std::string_view line, std::vector<std::string_view>& tokens) {
+  tokens.clear();
+  size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && isSpace(line[i]))
+      ++i;
+    const size_t start = i;
+    while (i < line.size() && !isSpace(line[i]))
+      ++i;
+    if (i > start) tokens.push_back(line.substr(start, i - start));
+  }
+}
+
+}  // namespace tdvo
