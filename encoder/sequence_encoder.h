@@ -28,6 +28,9 @@ struct EncodedSequence {
   // vertex coordinates of all frames (0 and 0 when coding is lossless on the grid).
   double sumSquaredError = 0;
   int64_t maxAbsError = 0;
+  // The MD5 lines of the stream (docs/bitstream.md, section 8), as 3dvo-enc prints them and
+  // 3dvo-dec --verify checks them; filled by Encoder::encode (encoder/encoder.h).
+  std::vector<std::string> md5Lines;
 };
 
 // The input frames of a sequence, read on demand, so that the encoder never holds more than a
