@@ -15,6 +15,8 @@
 //                  of its first four frames
 //   dataset        fuzz/seeds/dataset/*
 //   png            small PNGs of 1 to 4 channels written by encodePng
+//   arrays         frame 0 of each conformance input as the numpy arrays arrays_fuzz.cpp reads
+//                  (float64 positions, uint32 triangles)
 //
 // Seeds are generated rather than committed so that they follow the conformance streams when
 // those are regenerated. Exit code 1 (one error line) on any problem.
@@ -111,6 +113,20 @@ int extractPayloads(const fs::path& streamPath, const fs::path& out) {
   return written;
 }
 
+// A frame as the input of arrays_fuzz.cpp: float64 positions (element 1), uint32 triangles
+// (element 8), 3 columns each, row-major, then the row count and the elements.
+std::string arraysSeed(const Mesh& mesh) {
+  std::string seed = {1, 8, 3, 3, 0};
+  const uint32_t rows = static_cast<uint32_t>(mesh.positions.size());
+  for (int i = 0; i < 4; ++i)
+    seed += static_cast<char>(rows >> (8 * i));
+  seed.append(reinterpret_cast<const char*>(mesh.positions.data()),
+              mesh.positions.size() * sizeof(Vec3d));
+  seed.append(reinterpret_cast<const char*>(mesh.triangles.data()),
+              mesh.triangles.size() * sizeof(Triangle));
+  return seed;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -118,7 +134,7 @@ int main(int argc, char** argv) {
     check(argc == 3, "usage: fuzz_make_corpus SOURCE_DIR OUT_DIR");
     const fs::path source = argv[1], out = argv[2];
     for (const char* target : {"stream", "units", "imesh", "draco", "texture", "pmesh", "cfg",
-                               "obj", "ply", "gltf", "dataset", "png"}) {
+                               "obj", "ply", "gltf", "dataset", "png", "arrays"}) {
       std::error_code ec;
       fs::remove_all(out / target, ec);
       makeDirectories((out / target).string());
@@ -173,6 +189,7 @@ int main(int argc, char** argv) {
       for (int f = 0; f < 4 && fs::exists(framePath(pattern, f)); ++f)
         animation.add(f == 0 ? frame0 : readObj(framePath(pattern, f)));
       writeFileAtomic((out / "gltf" / (name + "-animation.glb")).string(), animation.finish());
+      writeFileAtomic((out / "arrays" / (name + "-0000.bin")).string(), arraysSeed(frame0));
       plys += 2;
       gltfs += 3;
     }
