@@ -76,7 +76,8 @@ std::vector<std::string> cells(const std::string& line) {
   return out;
 }
 
-// Rows "| ID | input | `message` | exit |" of docs/errors.md, ID like S01.
+// Rows "| ID | input | `message` | exit |" of docs/errors.md, ID like S01 (the four-character
+// PY rows are the Python module's: tools/python/tests/test_errors.py tests them).
 const std::map<std::string, Row>& catalogue() {
   static const std::map<std::string, Row> rows = [] {
     std::map<std::string, Row> out;
