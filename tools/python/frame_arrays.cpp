@@ -17,15 +17,16 @@ std::string shapeText(const ArrayView& a) {
   return text + (a.shape.size() == 1 ? ",)" : ")");
 }
 
-// `a` must be rows x 3 with rows in [1, maxRows].
+// `a` must be rows x 3 with rows in [1, maxRows]; `items` names its rows ("vertices"), `none`
+// what is missing without any ("no vertices").
 void checkShape(const ArrayView& a, size_t maxRows, const std::string& where, const char* rows,
-                const char* what) {
+                const char* items, const char* none) {
   if (a.shape.size() != 2 || a.strides.size() != 2 || a.shape[1] != 3)
     throw Error(where + ": expected an array of shape (" + rows + ", 3), got shape " +
                 shapeText(a));
-  if (a.shape[0] <= 0) throw Error(where + ": no " + what);
+  if (a.shape[0] <= 0) throw Error(where + ": " + none);
   if (static_cast<uint64_t>(a.shape[0]) > maxRows)
-    throw Error(where + ": more than " + std::to_string(maxRows) + " " + what);
+    throw Error(where + ": more than " + std::to_string(maxRows) + " " + items);
 }
 
 // Calls f with element (row, column) of `a` as its C++ type (readableElement types only).
@@ -69,8 +70,8 @@ Mesh frameMesh(const ArrayView& positions, const ArrayView& triangles, const std
             readableElement(triangles.kind, triangles.itemSize),
         frame + ": arrays of dtype " + positions.dtypeName + " and " + triangles.dtypeName +
             " are not read (convert them to float64 and int64)");
-  checkShape(positions, kMaxObjVertices, p, "N", "vertices");
-  checkShape(triangles, kMaxObjTriangles, t, "M", "triangles");
+  checkShape(positions, kMaxObjVertices, p, "N", "vertices", "no vertices");
+  checkShape(triangles, kMaxObjTriangles, t, "M", "triangles", "no faces");
 
   Mesh mesh;
   const size_t n = static_cast<size_t>(positions.shape[0]);
