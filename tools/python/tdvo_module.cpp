@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <iterator>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <utility>
@@ -155,6 +156,7 @@ class PyDecoder {
     bool more;
     {
       py::gil_scoped_release unlocked;
+      const std::lock_guard<std::mutex> lock(busy_);
       more = decoder_->next(frame->frame);
     }
     if (!more) return nullptr;
@@ -163,11 +165,13 @@ class PyDecoder {
 
   std::vector<int64_t> gomStarts() {
     py::gil_scoped_release unlocked;
+    const std::lock_guard<std::mutex> lock(busy_);
     return decoder_->gomStarts();
   }
 
   void seek(int64_t frameNumber) {
     py::gil_scoped_release unlocked;
+    const std::lock_guard<std::mutex> lock(busy_);
     decoder_->seek(frameNumber);
   }
 
@@ -180,6 +184,9 @@ class PyDecoder {
   Source source_;
   std::unique_ptr<Decoder> decoder_;
   std::string headerLine_;
+  // Held while the decoder works without the GIL: two Python threads sharing one Decoder take
+  // turns instead of racing.
+  std::mutex busy_;
 };
 
 // Every MD5 line 3dvo-dec prints for a stream, in its order (a GOM's geometry lines, then its
