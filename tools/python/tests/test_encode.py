@@ -1,5 +1,6 @@
 """Encoding numpy frames in Python gives 3dvo-enc's stream, byte for byte (issue 19, point 5)."""
 
+import re
 import subprocess
 
 import numpy as np
@@ -77,9 +78,10 @@ def test_numpy_sequence_equals_3dvo_enc(keys, tmp_path):
     frames = list(decoder)
     assert [f.md5_line for f in frames] + [decoder.header_md5_line] == coded.md5_lines
     assert len(frames) == len(sequence)
-    # Decoded positions are near the input (12-bit grid or finer over an extent of about 2.7).
+    # Decoded positions are near the input (an extent of about 2.7 on 11 to 14 bits; frames
+    # between keyframes are interpolated).
     for frame, (positions, _) in zip(frames, sequence):
-        assert np.abs(frame.positions - positions).max() < 0.01
+        assert np.abs(frame.positions - positions).max() < 0.05
 
 
 def test_inputs_of_every_kind():
@@ -113,4 +115,4 @@ def test_cfg_values_and_files(tmp_path):
     # Keys given in the dict override the files' (later settings win).
     overridden = tdvo.encode(sequence, {"GOMSize": 4}, cfg_files=[str(cfg)])
     assert overridden.stream != from_file.stream
-    assert "GOMSize : 4" in overridden.effective_config.replace("  ", " ")
+    assert re.search(r"^GOMSize\s*:\s*4$", overridden.effective_config, re.M)

@@ -78,7 +78,7 @@ def test_positions_shape():
     good = frame_with()
     p, _ = good
     expect("PY04", lambda: tdvo.encode([good, frame_with(positions=p[:, :2])]))
-    for bad in (p[:, 0], p[:, :, None], "abc"):
+    for bad in (p[:, 0], p[:, :, None], [[0.0, 1.0]] * 3):
         with pytest.raises(tdvo.Error, match=r"frame 1: positions: expected an array of shape"):
             tdvo.encode([good, frame_with(positions=bad)])
 
