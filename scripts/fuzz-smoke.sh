@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${TDVO_FUZZ_SECONDS:-20}"
-targets=(stream units imesh pmesh cfg obj ply gltf dataset png texture draco)
+targets=(stream units imesh pmesh cfg obj ply gltf dataset png texture draco arrays)
 mapfile -t packages < <(grep -v '^\s*#' scripts/packages.txt | grep -v '^\s*$')
 bash scripts/apt-install.sh "${packages[@]}" clang libclang-rt-14-dev llvm
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTDVO_FUZZ=ON \

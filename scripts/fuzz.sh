@@ -3,9 +3,10 @@
 #
 #   bash scripts/fuzz.sh TARGET SECONDS [extra libFuzzer options]
 #
-# TARGET is one of: stream units imesh pmesh cfg obj ply gltf dataset png texture draco. Builds the libFuzzer targets
-# with clang in build-fuzz/ (TDVO_FUZZ=ON: ASan + UBSan + coverage), writes the seed corpora
-# (build-fuzz/fuzz/seeds/), then runs the target on its working corpus build-fuzz/fuzz/work/TARGET
+# TARGET is one of: stream units imesh pmesh cfg obj ply gltf dataset png texture draco arrays.
+# Builds the libFuzzer targets with clang in build-fuzz/ (TDVO_FUZZ=ON: ASan + UBSan +
+# coverage), writes the seed corpora (build-fuzz/fuzz/seeds/), then runs the target on its
+# working corpus build-fuzz/fuzz/work/TARGET
 # (kept between runs; new inputs go there), the seeds and fuzz/regressions/TARGET. A finding
 # (crash, sanitizer report, timeout, out-of-memory) is written to build-fuzz/fuzz/findings/TARGET/
 # and the script exits non-zero; a clean run prints libFuzzer's final statistics
@@ -16,7 +17,7 @@ target="${1:?usage: fuzz.sh TARGET SECONDS [libFuzzer options]}"
 seconds="${2:?usage: fuzz.sh TARGET SECONDS [libFuzzer options]}"
 shift 2
 case "$target" in
-  stream | units | imesh | pmesh | cfg | obj | ply | gltf | dataset | png | texture | draco) ;;
+  stream | units | imesh | pmesh | cfg | obj | ply | gltf | dataset | png | texture | draco | arrays) ;;
   *) echo "fuzz.sh: unknown target '$target'" >&2; exit 2 ;;
 esac
 build=build-fuzz
