@@ -239,3 +239,24 @@ def test_seek_outside_the_stream():
 def test_every_row_has_a_test_and_every_test_a_row():
     assert len(ROWS) >= 16, "docs/errors.md has no Python rows"
     assert set(ROWS) == TESTED
+
+
+def test_decoder_limits_as_3dvo_dec(tmp_path):
+    """The decoder's limits, set from Python, refuse what 3dvo-dec refuses with them."""
+    stream = next(s for s in STREAMS if s.stem == "d3dmc_lossless_g8")
+    texture = next(s for s in STREAMS if s.stem.startswith("texture_"))
+    for path, option, keyword in (
+            (stream, "--MaxVertexFramesPerByte=1", "max_vertex_frames_per_byte"),
+            (stream, "--MaxMeshMemoryPerByte=1", "max_mesh_memory_per_byte"),
+            (texture, "--MaxTexturePixelsPerByte=1", "max_texture_pixels_per_byte")):
+        run = subprocess.run([app("3dvo-dec"), "-i", str(path), option], capture_output=True,
+                             text=True)
+        if run.returncode == 0:  # the limit is above what this stream needs
+            decode_all(str(path), **{keyword: 1})
+            continue
+        expected = run.stderr.strip().splitlines()[-1][len("3dvo-dec: error: "):]
+        with pytest.raises(tdvo.Error) as raised:
+            decode_all(str(path), **{keyword: 1})
+        assert str(raised.value) == expected
+    # 0 lifts a limit.
+    decode_all(str(stream), max_vertex_frames_per_byte=0)
