@@ -112,6 +112,17 @@ void parseUnit(const uint8_t* at, uint64_t available, uint64_t offset, size_t in
 
 }  // namespace
 
+void UnitSource::seek(uint64_t, size_t) {
+  throw Error("this unit source cannot seek (decode from a file or from memory)");
+}
+
+void UnitReader::seek(uint64_t offset, size_t index) {
+  if (offset < 4 || offset > size_)
+    throw Error(name_ + ": seek to byte " + std::to_string(offset) + " outside the stream");
+  pos_ = static_cast<size_t>(offset);
+  index_ = index;
+}
+
 bool UnitReader::next(UnitView& unit) {
   if (pos_ == size_) return false;
   parseUnit(data_ + pos_, size_ - pos_, pos_, index_++, name_, unit);
@@ -146,6 +157,13 @@ void UnitFileReader::read(uint8_t* to, size_t bytes) {
   if (bytes > 0 && std::fread(to, 1, bytes, file_) != bytes)
     throw Error(name_ + ": read error at byte " + std::to_string(std::ftell(file_)) + ": " +
                 (std::ferror(file_) ? std::strerror(errno) : "file shorter than it was"));
+}
+
+void UnitFileReader::seek(uint64_t offset, size_t index) {
+  if (offset < 4 || offset > size_ || std::fseek(file_, static_cast<long>(offset), SEEK_SET) != 0)
+    throw Error(name_ + ": cannot seek to byte " + std::to_string(offset));
+  pos_ = offset;
+  index_ = index;
 }
 
 bool UnitFileReader::next(UnitView& unit) {

@@ -55,6 +55,8 @@ struct UnitView {
   size_t index = 0;            // 0-based unit number
   // "unit 3 (I_MESH) at byte 1234" — the prefix of every error about this unit.
   std::string describe() const;
+  // The stream offset just past the unit (its CRC included): where the next unit starts.
+  uint64_t end() const { return payloadOffset + size + 4; }
 };
 
 // Where a decoder gets its units from: a stream in memory (UnitReader) or a file read unit by
@@ -65,6 +67,10 @@ class UnitSource {
   // Returns false at the end of the stream; throws Error on a truncated or corrupted unit. The
   // unit's payload stays valid until the next call.
   virtual bool next(UnitView& unit) = 0;
+  // Makes the next unit the one at stream offset `offset`, numbered `index` in messages: a unit
+  // start this source or another over the same stream returned (UnitView::end(), index + 1).
+  // Sources that cannot go back throw Error.
+  virtual void seek(uint64_t offset, size_t index);
 };
 
 // Walks the units of a stream held in memory. `name` (the file name) prefixes error messages.
@@ -72,6 +78,7 @@ class UnitReader : public UnitSource {
  public:
   UnitReader(const uint8_t* data, size_t size, std::string name);
   bool next(UnitView& unit) override;
+  void seek(uint64_t offset, size_t index) override;
   const std::string& name() const { return name_; }
 
  private:
@@ -93,6 +100,7 @@ class UnitFileReader : public UnitSource {
   UnitFileReader(const UnitFileReader&) = delete;
   UnitFileReader& operator=(const UnitFileReader&) = delete;
   bool next(UnitView& unit) override;
+  void seek(uint64_t offset, size_t index) override;
   uint64_t fileSize() const { return size_; }
 
  private:

@@ -29,6 +29,7 @@
 #include "common/views/texture_shape.h"
 #include "common/views/yuv_picture.h"
 #include "decoder/picture_decoder.h"
+#include "decoder/stream_decoder.h"
 
 namespace tdvo {
 
@@ -46,14 +47,6 @@ struct StreamInfo {
 
   // The input's frame number of stream frame `index` (0-based).
   int64_t frameNumber(uint32_t index) const { return firstFrame + index; }
-};
-
-// One camera's decoded texture picture of a frame.
-struct DecodedTexture {
-  int camera = 0;
-  TextureBox box;      // where the picture lies in the camera frame (pixels, top-left)
-  YuvPicture picture;  // 4:2:0, box.width x box.height
-  Image shape;         // the object's mask in the whole camera frame (255 inside), from the mesh
 };
 
 struct DecodedFrame {

@@ -88,15 +88,17 @@ struct KeptUnits : GomUnits {
 // time, for its texture units (docs/robustness.md, "Memory").
 class StreamDecoder::Decoding : public GomUnits {
  public:
+  // `pull`: driven by pull() (StreamDecoder::pullFrame), else by run().
   Decoding(StreamDecoder& decoder, const FrameCallback& onFrame, const TextureCallback& onTexture,
-           const TextureCallback& prepareTexture)
+           const TextureCallback& prepareTexture, bool pull = false)
       : d_(decoder),
         sh_(decoder.sh_),
         name_(decoder.name_),
         trace_(decoder.trace_),
         onFrame_(onFrame),
         onTexture_(onTexture),
-        prepareTexture_(prepareTexture) {
+        prepareTexture_(prepareTexture),
+        pull_(pull) {
     if (!d_.source_) inMemory_.emplace(d_.data_, d_.size_, name_);
     units_ = d_.source_ ? d_.source_ : &*inMemory_;
   }
@@ -108,10 +110,18 @@ class StreamDecoder::Decoding : public GomUnits {
       if (nextFrame_ >= outEnd_) return;  // the range is decoded: the rest is not read
       decodeGom();
     }
-    if (units_->next(unit_))
-      throw Error(name_ + ": " + unit_.describe() + ": unit after the last frame (sh_frame_count " +
-                  std::to_string(sh_.sh_frame_count) + ")");
+    expectEnd();
   }
+
+  // Pull-style: reads the sequence header (once), then each call makes one frame.
+  void begin() {
+    if (begun_) return;
+    d_.gomStarts_.clear();
+    readSequenceHeader();
+    begun_ = true;
+  }
+  bool pull(uint32_t& frame, const IntMesh*& mesh, UnitSource* textureUnits,
+            std::vector<DecodedTexture>* textures);
 
  private:
   // ---- The steps ----
@@ -121,16 +131,25 @@ class StreamDecoder::Decoding : public GomUnits {
   void decodeGom();
   GomHeader readGomHeader();
   void skipGom(const GomHeader& gh);
+  void startGeometry(const GomHeader& gh);
   void decodeGeometry(const GomHeader& gh);
   void decodeTextures(const GomHeader& gh);
+  YuvPicture decodePicture(size_t c, const TextureUnit& tx, const std::string& where);
+  void startPulledTextures(UnitSource& textureUnits);
+  void pullTextures(uint32_t frame, const std::vector<Vec3i>& positions,
+                    std::vector<DecodedTexture>& textures, bool output);
+  void expectEnd();
   void emit(uint32_t frame, const std::vector<Vec3i>& positions);
 
   // ---- Units and limits ----
-  void expectUnit(UnitType type, const std::string& when);
+  void expectUnit(UnitType type, const std::string& when) {
+    expectUnit(*units_, unit_, type, when);
+  }
+  void expectUnit(UnitSource& from, UnitView& unit, UnitType type, const std::string& when);
   void skipTextures(const GomHeader& gh);
   IntMesh readIMesh(uint32_t frame, uint32_t frames);
   void limitDecodingWork(uint32_t frames, size_t vertices);
-  void limitTextureWork(const std::string& where, size_t c);
+  void limitTextureWork(const std::string& where, size_t c, uint64_t bytesRead);
   bool inRange(uint64_t frame) const { return frame >= outFirst_ && frame < outEnd_; }
 
   class TexturePass;
@@ -149,6 +168,7 @@ class StreamDecoder::Decoding : public GomUnits {
   const FrameCallback& onFrame_;
   const TextureCallback& onTexture_;
   const TextureCallback& prepareTexture_;
+  const bool pull_;
   std::optional<UnitReader> inMemory_;
   UnitSource* units_ = nullptr;
   UnitView unit_;  // the unit read last
@@ -170,6 +190,12 @@ class StreamDecoder::Decoding : public GomUnits {
   MeshOrder order_;
   IntMesh output_;
 
+  // Pull-style decoding: the GOM whose frames pull() is making.
+  bool begun_ = false, gomOpen_ = false, ended_ = false;
+  GomHeader gh_;
+  UnitSource* textureUnits_ = nullptr;  // the GOM's texture units, when pulled with its frames
+  UnitView textureUnit_;
+
   // Textures.
   std::vector<MaskRenderer> cameras_;
   std::vector<std::unique_ptr<PictureDecoder>> textureDecoders_;  // made with a camera's first unit
@@ -178,13 +204,20 @@ class StreamDecoder::Decoding : public GomUnits {
   Grid textureGrid_;
 };
 
-void StreamDecoder::Decoding::expectUnit(UnitType type, const std::string& when) {
-  if (!units_->next(unit_))
+void StreamDecoder::Decoding::expectUnit(UnitSource& from, UnitView& unit, UnitType type,
+                                         const std::string& when) {
+  if (!from.next(unit))
     throw Error(name_ + ": stream ends " + when + " (expected a " +
                 unitTypeName(static_cast<uint8_t>(type)) + " unit; truncated stream)");
-  if (unit_.type != static_cast<uint8_t>(type))
-    throw Error(name_ + ": " + unit_.describe() + ": expected a " +
+  if (unit.type != static_cast<uint8_t>(type))
+    throw Error(name_ + ": " + unit.describe() + ": expected a " +
                 unitTypeName(static_cast<uint8_t>(type)) + " unit " + when);
+}
+
+void StreamDecoder::Decoding::expectEnd() {
+  if (units_->next(unit_))
+    throw Error(name_ + ": " + unit_.describe() + ": unit after the last frame (sh_frame_count " +
+                std::to_string(sh_.sh_frame_count) + ")");
 }
 
 void StreamDecoder::Decoding::readSequenceHeader() {
@@ -228,7 +261,7 @@ void StreamDecoder::Decoding::setUpCameras() {
                  uint64_t{static_cast<uint32_t>(box.width)} * static_cast<uint32_t>(box.height)));
   }
   textureGrid_ = d_.grid();
-  gom_.keepFirstReference(!cameras_.empty());
+  gom_.keepFirstReference(!cameras_.empty() && !pull_);
 }
 
 // The decoding-work limit (kDefaultMaxVertexFramesPerByte): `frames` more frames of a
@@ -248,11 +281,12 @@ void StreamDecoder::Decoding::limitDecodingWork(uint32_t frames, size_t vertices
 }
 
 // The texture-work limit (kDefaultMaxTexturePixelsPerByte): camera c's pixels, and the camera
-// pixels of the texture units read so far; unit_ is camera c's texture unit.
-void StreamDecoder::Decoding::limitTextureWork(const std::string& where, size_t c) {
+// pixels of the texture units read so far; `bytesRead`: the stream through camera c's texture
+// unit.
+void StreamDecoder::Decoding::limitTextureWork(const std::string& where, size_t c,
+                                               uint64_t bytesRead) {
   const uint64_t limit = d_.maxTexturePixelsPerByte_;
   if (limit == 0) return;
-  const uint64_t bytesRead = unit_.payloadOffset + unit_.size + 4;  // through the unit's CRC
   const uint64_t pixels = cameraPixels_[c];
   const CameraParameters& cp = sh_.cameras[c];
   if (pixels > kTexturePixelsFree + kTexturePixelsPerByte * bytesRead)
@@ -325,6 +359,16 @@ void StreamDecoder::Decoding::skipTextures(const GomHeader& gh) {
 
 // The GOM's frames, in order, each handed out (emit) as it is made.
 void StreamDecoder::Decoding::decodeGeometry(const GomHeader& gh) {
+  startGeometry(gh);
+  while (!gom_.done()) {
+    const uint32_t frame = gomFirst_ + gom_.produced();
+    emit(frame, gom_.next(*this));
+  }
+  nextFrame_ += gh.gh_frame_count;
+}
+
+// Starts the GOM's geometry: its frames are then made by gom_.next(*this).
+void StreamDecoder::Decoding::startGeometry(const GomHeader& gh) {
   mode_ = static_cast<PMeshMode>(gh.gh_pmesh_mode);
   gomFirst_ = gh.gh_first_frame;
   gomFrames_ = gh.gh_frame_count;
@@ -335,11 +379,6 @@ void StreamDecoder::Decoding::decodeGeometry(const GomHeader& gh) {
   // A GOM that continues the previous one declares its frames at its header.
   if (mode_ != PMeshMode::kIntra && !gh.gh_random_access)
     limitDecodingWork(gh.gh_frame_count, gom_.continuedVertices());
-  while (!gom_.done()) {
-    const uint32_t frame = gomFirst_ + gom_.produced();
-    emit(frame, gom_.next(*this));
-  }
-  nextFrame_ += gh.gh_frame_count;
 }
 
 // `frames`: the frames made from this I mesh's vertices (the GOM's; 1 in an intra GOM).
@@ -354,7 +393,7 @@ IntMesh StreamDecoder::Decoding::readIMesh(uint32_t frame, uint32_t frames) {
   IntMesh decoded = decodeIMesh(im.im_draco_payload, sh_.sh_grid_bits, where,
                                 unit_.payloadOffset + unit_.size + 4, d_.maxMeshMemoryPerByte_);
   limitDecodingWork(frames, decoded.positions.size());
-  if (!cameras_.empty() && mode_ == PMeshMode::kIntra)
+  if (!cameras_.empty() && !pull_ && mode_ == PMeshMode::kIntra)
     kept_.payloads.push_back(im.im_draco_payload);
   expectUnit(UnitType::kVertexOrder, "after the I mesh of frame " + std::to_string(frame));
   const VertexOrderUnit vo = parseUnit<VertexOrderUnit>(unit_, name_, trace_, "the vertex order");
@@ -378,7 +417,7 @@ PMeshPayload StreamDecoder::Decoding::pMesh(uint32_t k) {
   if (pm_.pm_frame != frame)
     throw Error(where + ": pm_frame " + std::to_string(pm_.pm_frame) + " but expected " +
                 std::to_string(frame));
-  if (!cameras_.empty()) kept_.payloads.push_back(pm_.pm_cabac_payload);
+  if (!cameras_.empty() && !pull_) kept_.payloads.push_back(pm_.pm_cabac_payload);
   return {pm_.pm_cabac_payload.data(), pm_.pm_cabac_payload.size(), where, trace_};
 }
 
@@ -431,17 +470,10 @@ class StreamDecoder::Decoding::TexturePass {
   Decoded decodeItem(size_t i) {
     const Parsed p = readUnit(i);
     const size_t k = i / cameras_, c = i % cameras_;
-    const TextureBox box = textureBox(run_.sh_.cameras[c]);
     Decoded d;
     // Only this item uses camera c's decoder now: the camera's next item starts once this one
     // has been consumed.
-    std::unique_ptr<PictureDecoder>& decoder = run_.textureDecoders_[c];
-    if (!decoder) decoder = run_.d_.pictureDecoders_(run_.name_ + ": camera " + std::to_string(c));
-    try {
-      d.picture = decoder->decode(p.tx.tx_access_unit, box.width, box.height);
-    } catch (const Error& e) {
-      throw Error(p.where + ": " + e.what());
-    }
+    d.picture = run_.decodePicture(c, p.tx, p.where);
     d.shape = textureShape(*frameMesh(k), run_.cameras_[c]);
     const uint32_t frame = first_ + static_cast<uint32_t>(k);
     if (run_.prepareTexture_ && run_.inRange(frame))
@@ -499,7 +531,7 @@ class StreamDecoder::Decoding::TexturePass {
       throw Error(p.where + ": texture of camera " + std::to_string(p.tx.tx_camera) + ", frame " +
                   std::to_string(p.tx.tx_frame) + " but expected camera " + std::to_string(c) +
                   ", frame " + std::to_string(frame));
-    run_.limitTextureWork(p.where, c);
+    run_.limitTextureWork(p.where, c, unit.end());
     ++unitsRead_;
   }
 
@@ -523,9 +555,141 @@ void StreamDecoder::Decoding::decodeTextures(const GomHeader& gh) {
   TexturePass(*this, gh.gh_first_frame, gh.gh_frame_count).decode();
 }
 
+// Camera c's picture of texture unit `tx` (`where` names it), through the camera's decoder.
+YuvPicture StreamDecoder::Decoding::decodePicture(size_t c, const TextureUnit& tx,
+                                                  const std::string& where) {
+  const TextureBox box = textureBox(sh_.cameras[c]);
+  std::unique_ptr<PictureDecoder>& decoder = textureDecoders_[c];
+  if (!decoder) decoder = d_.pictureDecoders_(name_ + ": camera " + std::to_string(c));
+  try {
+    return decoder->decode(tx.tx_access_unit, box.width, box.height);
+  } catch (const Error& e) {
+    throw Error(where + ": " + e.what());
+  }
+}
+
+// ---- Pull-style decoding (StreamDecoder::pullFrame) ----
+// The GOM's frames are made one at a time, as they are asked for, by the same GomDecoder the
+// push-style decode() uses. A GOM's texture units follow all its geometry units in the stream;
+// to hand out each frame with its pictures without making the GOM's frames twice or keeping
+// them, a second source over the same stream reads the texture units while units_ reads the
+// geometry, and units_ passes over them (skipTextures) once the GOM is done.
+bool StreamDecoder::Decoding::pull(uint32_t& frame, const IntMesh*& mesh, UnitSource* textureUnits,
+                                   std::vector<DecodedTexture>* textures) {
+  begin();
+  if (textures) textures->clear();
+  for (;;) {
+    if (gomOpen_) {
+      while (!gom_.done()) {
+        const uint32_t f = gomFirst_ + gom_.produced();
+        const std::vector<Vec3i>& positions = gom_.next(*this);
+        // Frames before the range (in a GOM of P meshes before it, or in the range's first
+        // GOM): decoded, not output; their pictures too, which later ones are predicted from.
+        if (textureUnits_) pullTextures(f, positions, *textures, inRange(f));
+        if (!inRange(f)) continue;
+        applyVertexOrder(order_, positions, output_.positions);
+        frame = f;
+        mesh = &output_;
+        return true;
+      }
+      gomOpen_ = false;
+      nextFrame_ += gh_.gh_frame_count;
+      skipTextures(gh_);
+    }
+    if (nextFrame_ >= sh_.sh_frame_count) {
+      if (!ended_) expectEnd();
+      ended_ = true;
+      return false;
+    }
+    if (nextFrame_ >= outEnd_) return false;  // the range is decoded: the rest is not read
+    gh_ = readGomHeader();
+    const bool beforeRange = uint64_t{gh_.gh_first_frame} + gh_.gh_frame_count <= outFirst_;
+    if (beforeRange && gh_.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kIntra)) {
+      skipGom(gh_);
+      continue;
+    }
+    startGeometry(gh_);
+    textureUnits_ = nullptr;
+    if (!beforeRange && !cameras_.empty() && textureUnits && textures && d_.pictureDecoders_)
+      startPulledTextures(*textureUnits);
+    gomOpen_ = true;
+  }
+}
+
+// Moves `textureUnits` to the GOM's first texture unit: past the geometry units that follow
+// the GOM header just read (units_ checks them as it decodes them).
+void StreamDecoder::Decoding::startPulledTextures(UnitSource& textureUnits) {
+  textureUnits.seek(unit_.end(), unit_.index + 1);
+  const std::string when = "in the GOM at frame " + std::to_string(gh_.gh_first_frame);
+  for (;;) {
+    if (!textureUnits.next(textureUnit_))
+      throw Error(name_ + ": stream ends " + when + " (expected a " +
+                  unitTypeName(static_cast<uint8_t>(UnitType::kTexture)) +
+                  " unit; truncated stream)");
+    const auto type = static_cast<UnitType>(textureUnit_.type);
+    if (type == UnitType::kTexture) break;
+    if (type != UnitType::kIMesh && type != UnitType::kVertexOrder && type != UnitType::kPMesh)
+      throw Error(name_ + ": " + textureUnit_.describe() + ": expected a " +
+                  unitTypeName(static_cast<uint8_t>(UnitType::kTexture)) + " unit " + when);
+  }
+  textureUnits.seek(textureUnit_.offset, textureUnit_.index);
+  textureUnits_ = &textureUnits;
+}
+
+// Frame `frame`'s pictures, one per camera, from the GOM's texture units in order; `positions`
+// (in the GOM's vertex order, with gom_.triangles()) make the shapes. Without `output` (a frame
+// before the range) the pictures are decoded for the ones predicted from them, and no shape is
+// made.
+void StreamDecoder::Decoding::pullTextures(uint32_t frame, const std::vector<Vec3i>& positions,
+                                           std::vector<DecodedTexture>& textures, bool output) {
+  Mesh mesh;
+  if (output) {
+    mesh.positions.reserve(positions.size());
+    for (const Vec3i& q : positions)
+      mesh.positions.push_back(textureGrid_.dequantise(q));
+    mesh.triangles = gom_.triangles();
+  }
+  textures.resize(cameras_.size());
+  for (size_t c = 0; c < cameras_.size(); ++c) {
+    expectUnit(
+        *textureUnits_, textureUnit_, UnitType::kTexture,
+        "for the texture of camera " + std::to_string(c) + ", frame " + std::to_string(frame));
+    const TextureUnit tx = parseUnit<TextureUnit>(textureUnit_, name_, trace_, "the texture");
+    const std::string where = name_ + ": " + textureUnit_.describe();
+    if (tx.tx_frame != frame || tx.tx_camera != c)
+      throw Error(where + ": texture of camera " + std::to_string(tx.tx_camera) + ", frame " +
+                  std::to_string(tx.tx_frame) + " but expected camera " + std::to_string(c) +
+                  ", frame " + std::to_string(frame));
+    limitTextureWork(where, c, textureUnit_.end());
+    DecodedTexture& t = textures[c];
+    t.camera = static_cast<int>(c);
+    t.box = textureBox(sh_.cameras[c]);
+    t.picture = decodePicture(c, tx, where);
+    if (output) t.shape = textureShape(mesh, cameras_[c]);
+  }
+}
+
+StreamDecoder::~StreamDecoder() = default;
+
 void StreamDecoder::decode(const FrameCallback& onFrame, const TextureCallback& onTexture,
                            const TextureCallback& prepareTexture) {
   Decoding(*this, onFrame, onTexture, prepareTexture).run();
+}
+
+StreamDecoder::Decoding& StreamDecoder::pullRun() {
+  static const FrameCallback noFrames;
+  static const TextureCallback noTextures;
+  if (!pull_) pull_ = std::make_unique<Decoding>(*this, noFrames, noTextures, noTextures, true);
+  return *pull_;
+}
+
+void StreamDecoder::readHeader() {
+  pullRun().begin();
+}
+
+bool StreamDecoder::pullFrame(uint32_t& frame, const IntMesh*& mesh, UnitSource* textureUnits,
+                              std::vector<DecodedTexture>* textures) {
+  return pullRun().pull(frame, mesh, textureUnits, textures);
 }
 
 }  // namespace tdvo

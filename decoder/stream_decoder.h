@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "common/core/grid.h"
 #include "common/core/mesh.h"
 #include "common/views/image.h"
+#include "common/views/texture_shape.h"
 #include "common/views/yuv_picture.h"
 #include "decoder/draco_limits.h"
 #include "decoder/picture_decoder.h"
@@ -52,6 +54,14 @@ using FrameCallback = std::function<void(int frame, const IntMesh& mesh)>;
 using TextureCallback =
     std::function<void(int frame, int camera, const YuvPicture& picture, const Image& shape)>;
 
+// One camera's decoded texture picture of a frame (pull-style decoding, decoder/decoder.h).
+struct DecodedTexture {
+  int camera = 0;
+  TextureBox box;      // where the picture lies in the camera frame (pixels, top-left)
+  YuvPicture picture;  // 4:2:0, box.width x box.height
+  Image shape;         // the object's mask in the whole camera frame (255 inside), from the mesh
+};
+
 class StreamDecoder {
  public:
   // `name` (the file name) prefixes error messages; `trace`, when given, receives every syntax
@@ -60,6 +70,9 @@ class StreamDecoder {
   // Decodes the units `units` gives (e.g. a UnitFileReader: the stream is then never held in
   // memory as a whole, and memory does not grow with the sequence's length).
   StreamDecoder(UnitSource& units, std::string name, std::FILE* trace = nullptr);
+  ~StreamDecoder();
+  StreamDecoder(const StreamDecoder&) = delete;  // a run refers to its decoder
+  StreamDecoder& operator=(const StreamDecoder&) = delete;
 
   // Decodes everything, calling `onFrame` as each frame is finished. Throws Error, naming the
   // unit and byte offset, on any malformed, truncated or inconsistent stream.
@@ -82,6 +95,22 @@ class StreamDecoder {
     rangeFirst_ = first;
     rangeCount_ = count;
   }
+
+  // Pull-style decoding, what tdvo::Decoder (decoder/decoder.h) is built on: makes the next
+  // frame of the range (setFrameRange) and returns its stream frame in `frame` and its mesh, in
+  // the output order, in `mesh` (valid until the next call); false after the last frame (the
+  // stream has then been checked for units after it). The first call reads the sequence
+  // header. Frames are made one at a time as they are asked for (memory: one frame, whatever
+  // the GOM's length). With `textureUnits` (a second source over the same stream: a
+  // UnitReader or UnitFileReader of the same bytes, moved with UnitSource::seek) and a picture
+  // decoder, `textures` receives each frame's pictures, one per camera: the second source reads
+  // a GOM's texture units while the first reads its geometry. Without them a stream's texture
+  // units are read and checked, not decoded. Not to be mixed with decode() on one object.
+  bool pullFrame(uint32_t& frame, const IntMesh*& mesh, UnitSource* textureUnits = nullptr,
+                 std::vector<DecodedTexture>* textures = nullptr);
+  // Pull-style: reads and checks the sequence header (sequenceHeader()) without decoding a
+  // frame; pullFrame() goes on from there. Throws Error.
+  void readHeader();
 
   // Sets how texture pictures are decoded: one decoder per camera, made by `factory` at the
   // camera's first texture unit (the texture component's makeH264Decoder,
@@ -111,7 +140,9 @@ class StreamDecoder {
   const std::vector<uint32_t>& gomStarts() const { return gomStarts_; }
 
  private:
-  class Decoding;  // one run of decode() (stream_decoder.cpp)
+  class Decoding;                   // one run of decode() (stream_decoder.cpp)
+  std::unique_ptr<Decoding> pull_;  // the run of pullFrame()
+  Decoding& pullRun();
 
   const uint8_t* data_ = nullptr;
   size_t size_ = 0;

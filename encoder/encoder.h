@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "common/core/grid.h"
 #include "common/core/mesh.h"
 #include "encoder/encoder_params.h"
 #include "encoder/sequence_encoder.h"
@@ -24,6 +25,7 @@
 namespace tdvo {
 
 class OptionTable;
+struct Dataset;
 
 class Encoder {
  public:
@@ -40,15 +42,23 @@ class Encoder {
   void readConfig(const std::string& path);
   // Every key with its effective value (a valid cfg file), as 3dvo-enc prints it.
   std::string effectiveConfig() const;
-  // The parameters the keys set (checked: Error when they are inconsistent).
-  const EncoderParams& params() const;
+  // The parameters the keys set, checked (Error when they are inconsistent), with a Dataset's
+  // first frame number and frame rate where FirstFrame and FrameRate are not set: what
+  // encode() uses.
+  const EncoderParams& params();
+  // The dataset Dataset names (read by params()), or null.
+  const Dataset* dataset();
   // True when `key` was set by set() or readConfig() (not left at its default).
   bool wasSet(const std::string& key) const;
-  // The option table (3dvo-enc parses its command line with it).
+  // The grid of the last encode() (normally its frames' bounding box at GridBits), valid from
+  // that encode()'s first onFrame call on: grid().dequantise(recon) gives float positions.
+  const Grid& grid() const;
+  // The option table (3dvo-enc parses its command line with it; --help lists it).
   OptionTable& options();
 
   // Encodes `frames` (frame k of the stream is frames[k]: the input's frame number FirstFrame
-  // + k; FrameCount, when set, must equal frames.size()). `onFrame` receives the encoder's
+  // + k; FrameCount, when set, must equal frames.size(); each frame is checked like a mesh
+  // file: finite positions, triangle indices within its vertices). `onFrame` receives the encoder's
   // reconstruction of each frame (the decoder's output), `onTexture` each coded camera
   // picture when Dataset is set. The result's md5Lines are the lines 3dvo-enc prints (and
   // 3dvo-dec --verify checks). Throws Error on input the codec cannot represent.

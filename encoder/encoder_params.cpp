@@ -131,6 +131,10 @@ void EncoderParams::validate() const {
   if (!inputMeshPattern.empty() && !isMeshAnimationFile(inputMeshPattern))
     checkFramePattern(inputMeshPattern, "InputMeshPattern");
   if (!reconMeshPattern.empty()) checkFramePattern(reconMeshPattern, "ReconMeshPattern");
+  validateCoding();
+}
+
+void EncoderParams::validateCoding() const {
   check(keyframeCount != 1,
         "KeyframeCount 1 is not possible: a GOM's first and last frames are always keyframes "
         "(set 2 or more, or 0 for every frame)");

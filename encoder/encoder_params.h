@@ -69,6 +69,8 @@ struct EncoderParams {
   // Checks what single-key ranges cannot: required keys, patterns, the GOM list against
   // FrameCount. Throws Error.
   void validate() const;
+  // The same without the input and output file keys (frames given from memory, encoder/encoder.h).
+  void validateCoding() const;
 };
 
 }  // namespace tdvo

@@ -20,9 +20,8 @@
 #include "common/media/media_version.h"
 #include "common/media/yuv.h"
 #include "decoder/decoder_version.h"
+#include "encoder/encoder.h"
 #include "encoder/input_frames.h"
-#include "encoder/sequence_encoder.h"
-#include "encoder/texture_encoder.h"
 
 extern "C" {
 #include <x264.h>
@@ -32,15 +31,17 @@ using namespace tdvo;
 
 int main(int argc, char** argv) {
   return runApp("3dvo-enc", [&]() {
-    EncoderParams params;
-    OptionTable table("3dvo-enc", "3dvo-enc -c cfg/FILE.cfg [-c ...] [--Key=value ...]");
-    params.registerOptions(table);
+    Encoder encoder;
+    OptionTable& table = encoder.options();
     table.addVersionLines(decoderVersionLines());
     table.addVersionLines(
         {std::string("x264 ") + X264_POINTVER + " (build " + std::to_string(X264_BUILD) + ")"});
     table.addVersionLines(mediaLibraryVersions());
     if (!table.parseCommandLine(argc, argv)) return 0;
-    params.validate();
+    // The keys checked, with a dataset's first frame number and frame rate where FirstFrame and
+    // FrameRate are not set (Encoder::params).
+    EncoderParams params = encoder.params();
+    params.validate();  // and the file keys
     const auto start = std::chrono::steady_clock::now();
     std::printf("# 3dvo-enc effective configuration\n%s\n", table.effectiveConfig().c_str());
 
@@ -49,21 +50,7 @@ int main(int argc, char** argv) {
     // needs it) and, with a dataset, the texture boxes, then the encoder reads each GOM's
     // frames when it codes that GOM, so memory is bounded by a few GOMs, not by the sequence.
     FrameSource source;
-    Dataset dataset;
-    const Dataset* input = nullptr;  // the dataset, when given
-    if (!params.dataset.empty()) {
-      dataset = readDataset(params.dataset);
-      input = &dataset;
-      // Frame numbers are the dataset's (frames.first + index): start at its first frame.
-      if (!table.wasSet("FirstFrame")) params.firstFrame = dataset.firstFrame;
-      // ... and its frame rate, which the stream carries to the decoded dataset.
-      if (!table.wasSet("FrameRate")) {
-        check(dataset.frameRate >= 0.001 && dataset.frameRate <= 1000,
-              dataset.resolve(kDatasetFileName) +
-                  ": frames.rate is outside FrameRate's range 0.001 .. 1000; set FrameRate");
-        params.frameRate = dataset.frameRate;
-      }
-    }
+    const Dataset* input = encoder.dataset();  // the dataset, when given
     // One glTF file holding the whole sequence (InputMeshPattern without %d naming a .gltf or
     // .glb): its animation's keyframes are the frames 0 .. N-1, read from the file held once.
     std::optional<GltfFile> animation;
@@ -88,12 +75,12 @@ int main(int argc, char** argv) {
     std::string found;
     params.frameCount = resolveFrameCount(params, input, &found);
     if (!found.empty()) std::printf("# input frames: %s\n", found.c_str());
-    if (input) checkTextureFrames(params, dataset, params.frameCount);
+    if (input) checkTextureFrames(params, *input, params.frameCount);
     if (input) {
       // What of the dataset the stream does not carry, said rather than dropped silently
       // (docs/bitstream.md, section 2): the decoded dataset has the decoded files instead.
       int masks = 0, backgrounds = 0;
-      for (const DatasetCamera& c : dataset.cameras) {
+      for (const DatasetCamera& c : input->cameras) {
         masks += !c.masks.empty() || c.alphaMask;
         backgrounds += !c.background.empty() || !c.backgroundVideo.empty();
       }
@@ -127,17 +114,17 @@ int main(int argc, char** argv) {
       inputs.add(params.gomListFile);
       for (size_t k = 0; k < source.count; ++k)
         inputs.add(source.name(k));
-      if (!params.dataset.empty()) {
-        inputs.add(dataset.resolve(kDatasetFileName));
-        for (const DatasetCamera& c : dataset.cameras)
+      if (input) {
+        inputs.add(input->resolve(kDatasetFileName));
+        for (const DatasetCamera& c : input->cameras)
           for (const std::string* file :
                {&c.images, &c.video, &c.masks, &c.background, &c.backgroundVideo})
             for (size_t k = 0; !file->empty() && k < source.count; ++k) {
               // Dataset frame number FirstFrame + k is the dataset's frame index k + FirstFrame
               // - frames.first.
-              const int64_t index = int64_t{params.firstFrame} - dataset.firstFrame + int64_t(k);
-              if (index < 0 || index >= dataset.frameCount) break;  // refused later, clearly
-              inputs.add(dataset.framePath(*file, static_cast<int>(index)));
+              const int64_t index = int64_t{params.firstFrame} - input->firstFrame + int64_t(k);
+              if (index < 0 || index >= input->frameCount) break;  // refused later, clearly
+              inputs.add(input->framePath(*file, static_cast<int>(index)));
               if (!hasFrameConversion(*file)) break;
             }
       }
@@ -146,42 +133,39 @@ int main(int argc, char** argv) {
         for (size_t k = 0; k < source.count; ++k)
           inputs.checkOutput(reconName(static_cast<int>(k)));
     }
-    std::optional<TextureBoxFinder> boxes;
-    if (!params.dataset.empty()) boxes.emplace(params, dataset, source.count);
-
-    Grid grid;
-    {
-      Progress progress("reading frames", source.count);
-      grid = gridForSequence(
-          source, params.gridBits, params.threadCount(), [&](size_t k) { progress.tick(k + 1); },
-          boxes ? [&](size_t, const Mesh& mesh) { boxes->add(mesh); }
-                : std::function<void(size_t, const Mesh&)>());
-    }
-    std::unique_ptr<TextureEncoder> textures;
-    if (boxes) textures = std::make_unique<TextureEncoder>(params, dataset, boxes->boxes());
     StagedFiles outputs;
     EncodedSequence coded;
     {
-      Progress progress("encoding frames", source.count);
-      coded = encodeSequence(
-          params, grid, source,
+      // The encoder library reads the frames twice (bounding box and texture boxes, then GOM
+      // by GOM) and makes the MD5 lines, printed here as they come (a GOM's frame lines, then
+      // its texture lines, then the header line).
+      std::optional<Progress> reading(std::in_place, "reading frames", source.count);
+      std::optional<Progress> encoding;
+      std::optional<Grid> grid;
+      coded = encoder.encode(
+          source,
           [&](int frame, const IntMesh& recon) {
+            if (!encoding) {
+              reading.reset();
+              encoding.emplace("encoding frames", source.count);
+            }
             // MD5 lines and files carry the input's frame numbers (sh_first_frame + frame).
-            const int number = params.firstFrame + frame;
-            std::printf("%s\n", geometryHashLine(number, recon).c_str());
-            if (!params.reconMeshPattern.empty())
+            std::printf("%s\n", geometryHashLine(params.firstFrame + frame, recon).c_str());
+            if (!params.reconMeshPattern.empty()) {
+              if (!grid) grid = encoder.grid();
               outputs.write(reconName(frame),
-                            formatMeshFile(grid.dequantise(recon),
+                            formatMeshFile(grid->dequantise(recon),
                                            meshOutputFormat(params.reconMeshPattern)));
-            progress.tick(frame + 1);
+            }
+            encoding->tick(frame + 1);
           },
-          textures.get(),
           [&](int frame, int camera, const YuvPicture& picture, const Image&) {
             std::printf("%s\n",
                         textureHashLine(params.firstFrame + frame, camera, picture).c_str());
-          });
+          },
+          [&](size_t k) { reading->tick(k + 1); });
     }
-    std::printf("%s\n", sequenceHeaderHashLine(coded.stream, params.bitstreamFile).c_str());
+    std::printf("%s\n", coded.md5Lines.back().c_str());
     outputs.write(params.bitstreamFile, coded.stream.data(), coded.stream.size());
     outputs.commit();
 

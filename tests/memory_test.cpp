@@ -30,6 +30,7 @@
 #include "common/core/gltf_io.h"
 #include "common/core/obj_io.h"
 #include "common/core/ply_io.h"
+#include "decoder/decoder.h"
 #include "decoder/imesh_decoder.h"
 #include "decoder/stream_decoder.h"
 #include "decoder/texture/h264_decoder.h"
@@ -161,6 +162,18 @@ std::string decodeWithinBound(const std::vector<uint8_t>& stream,
   });
 }
 
+// The same with the pull-style public decoder (decoder/decoder.h), frame by frame, textures
+// decoded beside their frames.
+std::string pullWithinBound(const std::vector<uint8_t>& stream) {
+  return runWithinBound(stream.size(), [&] {
+    Decoder decoder = Decoder::openMemory(stream.data(), stream.size(), "x.3dvo", false);
+    decoder.setPictureDecoder(makeH264Decoder);
+    DecodedFrame frame;
+    while (decoder.next(frame)) {
+    }
+  });
+}
+
 #ifdef TDVO_ASAN
 #define SKIP_UNDER_ASAN() \
   GTEST_SKIP() << "AddressSanitizer's shadow memory rules out RLIMIT_AS: not checked here"
@@ -238,17 +251,24 @@ std::vector<Unit> texturedSheetUnits(int n, uint16_t gomFrames, int cameras, uin
   return units;
 }
 
-TEST(Memory, ConformanceStreamsDecodeWithinTheBound) {
-  SKIP_UNDER_ASAN();
+// Each conformance stream decoded by `decode` within the bound.
+void expectConformanceStreamsWithinTheBound(
+    const std::function<std::string(const std::vector<uint8_t>&)>& decode) {
   int streams = 0;
   for (const auto& entry :
        std::filesystem::directory_iterator(std::string(TDVO_SOURCE_DIR) + "/conformance/streams")) {
     if (entry.path().extension() != ".3dvo") continue;
     SCOPED_TRACE(entry.path().string());
-    EXPECT_EQ(decodeWithinBound(fileBytes(entry.path())), "ok");
+    EXPECT_EQ(decode(fileBytes(entry.path())), "ok");
     ++streams;
   }
   EXPECT_GE(streams, 11);
+}
+
+TEST(Memory, ConformanceStreamsDecodeWithinTheBound) {
+  SKIP_UNDER_ASAN();
+  expectConformanceStreamsWithinTheBound(
+      [](const std::vector<uint8_t>& stream) { return decodeWithinBound(stream); });
 }
 
 // The fuzz targets' committed inputs that reach the decoder: the seeds of fuzz/seeds/texture
@@ -295,6 +315,30 @@ TEST(Memory, TexturedLongGomKeepsFewFrames) {
   const std::string outcome = decodeWithinBound(stream);
   // The stream ends where the texture units belong: the geometry decoded within the bound.
   EXPECT_NE(outcome.find("error: "), std::string::npos) << outcome;
+  EXPECT_NE(outcome.find("expected a TEXTURE unit"), std::string::npos) << outcome;
+}
+
+// The pull-style decoder makes a GOM's frames one at a time, with their pictures: the same
+// streams stay within the bound, the fuzz inputs and a long textured GOM included.
+TEST(Memory, PullDecoderStaysWithinTheBound) {
+  SKIP_UNDER_ASAN();
+  expectConformanceStreamsWithinTheBound(pullWithinBound);
+  for (const char* folder : {"seeds/texture", "regressions/stream", "regressions/units"}) {
+    const std::string path = std::string(TDVO_SOURCE_DIR) + "/fuzz/" + folder;
+    if (!std::filesystem::exists(path)) continue;
+    for (const auto& entry : std::filesystem::directory_iterator(path)) {
+      SCOPED_TRACE(entry.path().string());
+      const std::vector<uint8_t> raw = fileBytes(entry.path());
+      for (const std::vector<uint8_t>& stream :
+           {raw, fuzz::withValidCrcs(raw.data(), raw.size())}) {
+        const std::string outcome = pullWithinBound(stream);
+        EXPECT_TRUE(outcome == "ok" || outcome.rfind("error: ", 0) == 0) << outcome;
+      }
+    }
+  }
+  // 4000 frames of a 900-vertex sheet from 911 bytes, with all their texture units: 2 cameras.
+  const std::vector<uint8_t> longGom = join(texturedSheetUnits(30, 4000, 2, 64));
+  const std::string outcome = pullWithinBound(longGom);
   EXPECT_NE(outcome.find("expected a TEXTURE unit"), std::string::npos) << outcome;
 }
 

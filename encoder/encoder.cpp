@@ -1,0 +1,169 @@
+#include "encoder/encoder.h"
+
+#include <cmath>
+#include <optional>
+#include <utility>
+
+#include "bitstream/header_hash.h"
+#include "bitstream/syntax.h"
+#include "common/core/config.h"
+#include "common/core/error.h"
+#include "common/core/md5.h"
+#include "common/media/dataset.h"
+#include "encoder/input_frames.h"
+#include "encoder/texture_encoder.h"
+
+namespace tdvo {
+
+// The option table is bound to the fields of `params` (it must not move: State is held by
+// pointer). `resolved` is what encode() uses: the keys checked, and with a Dataset its frame
+// numbers and rate where the keys leave them open.
+struct Encoder::State {
+  EncoderParams params;
+  OptionTable table{"3dvo-enc", "3dvo-enc -c cfg/FILE.cfg [-c ...] [--Key=value ...]"};
+  std::optional<EncoderParams> resolved;
+  std::optional<Dataset> dataset;
+  Grid grid;  // the last encode()'s
+
+  State() { params.registerOptions(table); }
+};
+
+Encoder::Encoder() : s_(std::make_unique<State>()) {}
+Encoder::Encoder(Encoder&&) noexcept = default;
+Encoder& Encoder::operator=(Encoder&&) noexcept = default;
+Encoder::~Encoder() = default;
+
+void Encoder::set(const std::string& key, const std::string& value) {
+  s_->resolved.reset();
+  s_->table.set(key, value, "--" + key);
+}
+
+void Encoder::readConfig(const std::string& path) {
+  s_->resolved.reset();
+  s_->table.parseFile(path);
+}
+
+std::string Encoder::effectiveConfig() const {
+  return s_->table.effectiveConfig();
+}
+
+const Grid& Encoder::grid() const {
+  return s_->grid;
+}
+
+bool Encoder::wasSet(const std::string& key) const {
+  return s_->table.wasSet(key);
+}
+
+OptionTable& Encoder::options() {
+  s_->resolved.reset();
+  return s_->table;
+}
+
+const EncoderParams& Encoder::params() {
+  State& s = *s_;
+  if (s.resolved) return *s.resolved;
+  EncoderParams p = s.params;
+  p.validateCoding();
+  s.dataset.reset();
+  if (!p.dataset.empty()) {
+    s.dataset = readDataset(p.dataset);
+    // Frame numbers are the dataset's (frames.first + index): start at its first frame ...
+    if (!s.table.wasSet("FirstFrame")) p.firstFrame = s.dataset->firstFrame;
+    // ... and its frame rate, which the stream carries to the decoded dataset.
+    if (!s.table.wasSet("FrameRate")) {
+      check(s.dataset->frameRate >= 0.001 && s.dataset->frameRate <= 1000,
+            s.dataset->resolve(kDatasetFileName) +
+                ": frames.rate is outside FrameRate's range 0.001 .. 1000; set FrameRate");
+      p.frameRate = s.dataset->frameRate;
+    }
+  }
+  s.resolved = std::move(p);
+  return *s.resolved;
+}
+
+const Dataset* Encoder::dataset() {
+  params();
+  return s_->dataset ? &*s_->dataset : nullptr;
+}
+
+namespace {
+
+// A frame given from memory, checked as a mesh file's reader checks one: positions finite and
+// within the readers' range, triangle indices within the positions; counts within the codec's
+// limits (bitstream/syntax.h).
+void checkFrame(const Mesh& mesh, const std::string& name) {
+  check(mesh.positions.size() <= kMaxVertices,
+        name + ": more than " + std::to_string(kMaxVertices) + " vertices (the codec's limit)");
+  check(mesh.triangles.size() <= kMaxTriangles,
+        name + ": more than " + std::to_string(kMaxTriangles) + " triangles (the codec's limit)");
+  for (size_t v = 0; v < mesh.positions.size(); ++v)
+    for (double c : mesh.positions[v])
+      check(std::isfinite(c) && std::fabs(c) <= 1e300,
+            name + ": vertex " + std::to_string(v) + " has a non-finite coordinate");
+  for (size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (uint32_t i : mesh.triangles[t])
+      check(i < mesh.positions.size(), name + ": triangle " + std::to_string(t) +
+                                           ": vertex index " + std::to_string(i) +
+                                           " out of range (the frame has " +
+                                           std::to_string(mesh.positions.size()) + " vertices)");
+}
+
+}  // namespace
+
+EncodedSequence Encoder::encode(const std::vector<Mesh>& frames, const FrameCallback& onFrame,
+                                const TextureCallback& onTexture) {
+  FrameSource source;
+  source.count = frames.size();
+  source.name = [](size_t k) { return "frame " + std::to_string(k); };
+  source.read = [&frames, &source](size_t k) {
+    checkFrame(frames[k], source.name(k));
+    return frames[k];
+  };
+  EncodedSequence coded = encode(source, onFrame, onTexture);
+  coded.frameInputIndex.clear();
+  return coded;
+}
+
+EncodedSequence Encoder::encode(const FrameSource& source, const FrameCallback& onFrame,
+                                const TextureCallback& onTexture,
+                                const std::function<void(size_t frame)>& onFramesRead) {
+  EncoderParams p = params();
+  const Dataset* input = dataset();
+  check(source.count > 0, "no frames to encode");
+  check(p.frameCount == 0 || static_cast<size_t>(p.frameCount) == source.count,
+        "FrameCount " + std::to_string(p.frameCount) + " but " + std::to_string(source.count) +
+            " frames given");
+  p.frameCount = static_cast<int>(source.count);
+  p.goms(source.count);  // a GOMListFile is checked against the frames before any is read
+  if (input) checkTextureFrames(p, *input, p.frameCount);
+
+  std::optional<TextureBoxFinder> boxes;
+  if (input) boxes.emplace(p, *input, source.count);
+  const Grid grid = s_->grid =
+      gridForSequence(source, p.gridBits, p.threadCount(), onFramesRead,
+                      boxes ? [&](size_t, const Mesh& mesh) { boxes->add(mesh); }
+                            : std::function<void(size_t, const Mesh&)>());
+  std::unique_ptr<TextureEncoder> textures;
+  if (boxes) textures = std::make_unique<TextureEncoder>(p, *input, boxes->boxes());
+
+  // The MD5 lines in the order 3dvo-enc prints them: a GOM's frame lines, then its texture
+  // lines, then the header line (docs/bitstream.md, section 8).
+  std::vector<std::string> lines;
+  EncodedSequence coded = encodeSequence(
+      p, grid, source,
+      [&](int frame, const IntMesh& recon) {
+        lines.push_back(geometryHashLine(p.firstFrame + frame, recon));
+        if (onFrame) onFrame(frame, recon);
+      },
+      textures.get(),
+      [&](int frame, int camera, const YuvPicture& picture, const Image& shape) {
+        lines.push_back(textureHashLine(p.firstFrame + frame, camera, picture));
+        if (onTexture) onTexture(frame, camera, picture, shape);
+      });
+  lines.push_back(sequenceHeaderHashLine(coded.stream, "the encoded stream"));
+  coded.md5Lines = std::move(lines);
+  return coded;
+}
+
+}  // namespace tdvo

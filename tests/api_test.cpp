@@ -1,0 +1,306 @@
+// The public API (docs/api.md): tdvo::Decoder (pull-style, file or memory, seek) against the
+// conformance streams and the push-style StreamDecoder, and tdvo::Encoder (frames from memory)
+// against the streams 3dvo-enc made.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "common/core/error.h"
+#include "common/core/md5.h"
+#include "common/core/mesh_io.h"
+#include "common/core/sequence.h"
+#include "decoder/decoder.h"
+#include "decoder/stream_decoder.h"
+#include "decoder/texture/h264_decoder.h"
+#include "encoder/encoder.h"
+#include "encoder/input_frames.h"
+#include "test_support.h"
+
+using namespace tdvo;
+using namespace tdvo::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kConformance = fs::path(TDVO_SOURCE_DIR) / "conformance";
+
+std::vector<std::string> conformanceStreams() {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(kConformance / "streams"))
+    if (entry.path().extension() == ".3dvo") names.push_back(entry.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string streamPath(const std::string& name) {
+  return (kConformance / "streams" / (name + ".3dvo")).string();
+}
+
+// The log's lines of one kind: "geometry=" or " texture ".
+std::vector<std::string> logLines(const std::string& name, const std::string& kind) {
+  std::vector<std::string> out;
+  for (const std::string& line :
+       lines(readText((kConformance / "streams" / (name + ".md5")).string())))
+    if (line.find(kind) != std::string::npos) out.push_back(line);
+  return out;
+}
+
+struct Pulled {
+  std::vector<std::string> geometry, texture;
+  std::vector<DecodedFrame> frames;
+};
+
+// Every frame next() gives, from where the decoder stands.
+Pulled pullAll(Decoder& decoder, bool keepFrames = false) {
+  Pulled out;
+  DecodedFrame frame;
+  while (decoder.next(frame)) {
+    out.geometry.push_back(frame.geometryHashLine());
+    for (const DecodedTexture& t : frame.textures)
+      out.texture.push_back(textureHashLine(static_cast<int>(frame.number), t.camera, t.picture));
+    if (keepFrames) out.frames.push_back(frame);
+  }
+  return out;
+}
+
+}  // namespace
+
+// Every conformance stream, from the file and from memory, gives the MD5 lines of its log:
+// geometry lines in order, and (with the H.264 picture decoder) texture lines in order.
+TEST(DecoderApi, ConformanceStreamsGiveTheirMd5Lines) {
+  const std::vector<std::string> names = conformanceStreams();
+  ASSERT_GE(names.size(), 10u);
+  for (const std::string& name : names) {
+    SCOPED_TRACE(name);
+    Decoder fromFile = Decoder::openFile(streamPath(name));
+    fromFile.setPictureDecoder(makeH264Decoder);
+    const Pulled a = pullAll(fromFile);
+    EXPECT_EQ(a.geometry, logLines(name, "geometry="));
+    EXPECT_EQ(a.texture, logLines(name, " texture "));
+    EXPECT_EQ(a.geometry.size(), fromFile.info().frameCount);
+
+    const std::vector<uint8_t> bytes = readBytes(streamPath(name));
+    Decoder fromMemory = Decoder::openMemory(bytes.data(), bytes.size(), name, false);
+    const Pulled b = pullAll(fromMemory);  // no picture decoder: geometry only
+    EXPECT_EQ(b.geometry, a.geometry);
+    EXPECT_TRUE(b.texture.empty());
+  }
+}
+
+// The header as the push-style decoder reads it; the GOM starts as it finds them; float
+// positions are the grid's.
+TEST(DecoderApi, HeaderGomStartsAndPositions) {
+  for (const std::string& name : conformanceStreams()) {
+    SCOPED_TRACE(name);
+    const std::vector<uint8_t> bytes = readBytes(streamPath(name));
+    StreamDecoder push(bytes.data(), bytes.size(), name);
+    std::vector<IntMesh> meshes;
+    push.decode([&](int, const IntMesh& mesh) { meshes.push_back(mesh); });
+
+    Decoder decoder = Decoder::openMemory(bytes.data(), bytes.size(), name);
+    const StreamInfo& info = decoder.info();
+    const SequenceHeader& sh = push.sequenceHeader();
+    EXPECT_EQ(info.frameCount, sh.sh_frame_count);
+    EXPECT_EQ(info.firstFrame, sh.sh_first_frame);
+    EXPECT_EQ(info.frameRate, sh.sh_frame_rate);
+    EXPECT_EQ(info.cameras.size(), sh.cameras.size());
+    EXPECT_EQ(info.grid.step, push.grid().step);
+    std::vector<int64_t> starts;
+    for (uint32_t s : push.gomStarts())
+      starts.push_back(info.frameNumber(s));
+    EXPECT_EQ(decoder.gomStarts(), starts);
+
+    const Pulled pulled = pullAll(decoder, true);
+    ASSERT_EQ(pulled.frames.size(), meshes.size());
+    for (size_t k = 0; k < meshes.size(); ++k) {
+      const DecodedFrame& f = pulled.frames[k];
+      EXPECT_EQ(f.index, k);
+      EXPECT_EQ(f.number, info.firstFrame + static_cast<int64_t>(k));
+      EXPECT_EQ(f.mesh.positions, meshes[k].positions);
+      EXPECT_EQ(f.mesh.triangles, meshes[k].triangles);
+      ASSERT_EQ(f.positions.size(), meshes[k].positions.size());
+      for (size_t v = 0; v < f.positions.size(); ++v) {
+        const Vec3d p = info.grid.dequantise(meshes[k].positions[v]);
+        for (int a = 0; a < 3; ++a)
+          EXPECT_EQ(f.positions[v][a], static_cast<float>(p[a]));
+      }
+    }
+  }
+}
+
+// A seek to any frame gives the same frames from there as decoding from the start, in every
+// mode (GOMs that continue the previous one without an I mesh included), also after frames
+// were read and when seeking back.
+TEST(DecoderApi, SeekGivesTheSameFrames) {
+  for (const std::string& name : conformanceStreams()) {
+    SCOPED_TRACE(name);
+    Decoder decoder = Decoder::openFile(streamPath(name));
+    decoder.setPictureDecoder(makeH264Decoder);
+    const Pulled all = pullAll(decoder);
+    const int64_t first = decoder.info().firstFrame;
+    const int64_t count = decoder.info().frameCount;
+    for (int64_t n : {count - 1, int64_t{0}, count / 2, count / 3}) {
+      SCOPED_TRACE("seek to " + std::to_string(first + n));
+      decoder.seek(first + n);
+      const Pulled rest = pullAll(decoder);
+      EXPECT_EQ(rest.geometry,
+                std::vector<std::string>(all.geometry.begin() + n, all.geometry.end()));
+      const size_t cameras = decoder.info().cameras.size();
+      EXPECT_EQ(rest.texture,
+                std::vector<std::string>(all.texture.begin() + n * cameras, all.texture.end()));
+    }
+    EXPECT_THROW(decoder.seek(first + count), Error);
+    EXPECT_THROW(decoder.seek(first - 1), Error);
+  }
+}
+
+// Frames come one at a time as they are decoded: a stream cut inside its last GOM's P meshes
+// still gives the frames before the cut, then the error the push-style decoder reports.
+TEST(DecoderApi, FramesComeBeforeALaterError) {
+  const std::string name = "d3dmc_lossless_g8";
+  std::vector<uint8_t> bytes = readBytes(streamPath(name));
+  bytes.resize(bytes.size() - 40);  // inside the last P mesh
+  std::string pushError;
+  int pushFrames = 0;
+  try {
+    StreamDecoder push(bytes.data(), bytes.size(), name);
+    push.decode([&](int, const IntMesh&) { ++pushFrames; });
+  } catch (const Error& e) {
+    pushError = e.what();
+  }
+  ASSERT_FALSE(pushError.empty());
+  Decoder decoder = Decoder::openMemory(bytes.data(), bytes.size(), name);
+  DecodedFrame frame;
+  int pulled = 0;
+  try {
+    while (decoder.next(frame))
+      ++pulled;
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), pushError);
+  }
+  EXPECT_EQ(pulled, pushFrames);
+  EXPECT_GE(pulled, 8);  // the whole first GOM, and more
+}
+
+// A textured stream's pictures come with their frame; each texture error is the push-style
+// decoder's message.
+TEST(DecoderApi, TexturedStreamErrorsAreThePushDecodersErrors) {
+  const std::string name = "texture_bbox_mb128_g3";
+  const std::vector<uint8_t> good = readBytes(streamPath(name));
+  for (size_t cut : {good.size() - 1, good.size() - 200, good.size() / 2, size_t{300}}) {
+    SCOPED_TRACE("cut at " + std::to_string(cut));
+    std::vector<uint8_t> bytes(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(cut));
+    std::string pushError;
+    try {
+      StreamDecoder push(bytes.data(), bytes.size(), name);
+      push.setPictureDecoder(makeH264Decoder);
+      push.decode([](int, const IntMesh&) {}, [](int, int, const YuvPicture&, const Image&) {});
+    } catch (const Error& e) {
+      pushError = e.what();
+    }
+    ASSERT_FALSE(pushError.empty());
+    std::string pullError;
+    try {
+      Decoder decoder = Decoder::openMemory(bytes.data(), bytes.size(), name);
+      decoder.setPictureDecoder(makeH264Decoder);
+      pullAll(decoder);
+    } catch (const Error& e) {
+      pullError = e.what();
+    }
+    EXPECT_EQ(pullError, pushError);
+  }
+}
+
+TEST(DecoderApi, OpenErrorsNameTheStream) {
+  try {
+    Decoder::openFile("/nonexistent/x.3dvo");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/x.3dvo: cannot open"), std::string::npos);
+  }
+  const uint8_t junk[] = {'3', 'D', 'V', 'P', 0};
+  EXPECT_THROW(Decoder::openMemory(junk, sizeof junk, "junk"), Error);
+  const uint8_t empty[] = {'3', 'D', 'V', 'O'};
+  try {
+    Decoder::openMemory(empty, sizeof empty, "empty");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "empty: stream ends at the start (expected a SEQUENCE_HEADER unit; truncated "
+              "stream)");
+  }
+}
+
+// tdvo::Encoder with frames from memory makes the very stream (and MD5 lines) 3dvo-enc made from
+// the files, for every conformance cfg (textured ones included).
+TEST(EncoderApi, FramesFromMemoryGiveTheConformanceStreams) {
+  const fs::path before = fs::current_path();
+  fs::current_path(kConformance);  // the cfgs' paths are relative to it
+  int streams = 0;
+  for (const auto& entry : fs::directory_iterator("cfg")) {
+    ++streams;
+    const std::string name = entry.path().stem().string();
+    SCOPED_TRACE(name);
+    Encoder encoder;
+    encoder.readConfig(entry.path().string());
+    const EncoderParams& params = encoder.params();
+    const int count = resolveFrameCount(params, encoder.dataset());
+    std::vector<Mesh> frames;
+    for (int k = 0; k < count; ++k)
+      frames.push_back(readMesh(inputMeshPath(params, encoder.dataset(), params.firstFrame + k)));
+    const EncodedSequence coded = encoder.encode(frames);
+    EXPECT_TRUE(coded.stream == readBytes(streamPath(name)));
+    std::vector<std::string> expected = lines(readText("streams/" + name + ".md5"));
+    EXPECT_EQ(coded.md5Lines, expected);
+  }
+  fs::current_path(before);
+  EXPECT_GE(streams, 12);
+}
+
+TEST(EncoderApi, BadFramesAndKeysAreErrors) {
+  std::vector<Mesh> frames = wobblingSphere(1, 3);
+  Encoder encoder;
+  try {
+    encoder.set("GOMSze", "3");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("GOMSze"), std::string::npos);
+  }
+  encoder.set("GOMSize", "3");
+  EXPECT_NO_THROW(encoder.encode(frames));
+  std::vector<Mesh> bad = frames;
+  bad[1].triangles[4][2] = static_cast<uint32_t>(bad[1].positions.size());
+  try {
+    encoder.encode(bad);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("frame 1: triangle 4: vertex index"), std::string::npos)
+        << e.what();
+  }
+  bad = frames;
+  bad[2].positions[7][1] = std::nan("");
+  EXPECT_THROW(encoder.encode(bad), Error);
+  encoder.set("FrameCount", "2");
+  EXPECT_THROW(encoder.encode(frames), Error);
+  EXPECT_THROW(encoder.encode(std::vector<Mesh>{}), Error);
+}
+
+// What the encoder's callbacks give is what the decoder makes of its stream.
+TEST(EncoderApi, ReconstructionIsTheDecodersOutput) {
+  const std::vector<Mesh> frames = wobblingSphere(2, 7);
+  Encoder encoder;
+  encoder.set("GOMSize", "4");
+  encoder.set("MotionQuantStep", "3");
+  std::vector<std::string> recon;
+  const EncodedSequence coded = encoder.encode(frames, [&](int frame, const IntMesh& mesh) {
+    recon.push_back(geometryHashLine(frame, mesh));
+  });
+  Decoder decoder = Decoder::openMemory(coded.stream.data(), coded.stream.size());
+  const Pulled pulled = pullAll(decoder);
+  EXPECT_EQ(pulled.geometry, recon);
+  EXPECT_EQ(std::vector<std::string>(coded.md5Lines.begin(), coded.md5Lines.end() - 1), recon);
+}
