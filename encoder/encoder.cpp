@@ -35,7 +35,8 @@ Encoder::~Encoder() = default;
 
 void Encoder::set(const std::string& key, const std::string& value) {
   s_->resolved.reset();
-  s_->table.set(key, value, "--" + key);
+  // Named as 3dvo-enc names a --Key=value option, so that errors read the same.
+  s_->table.set(key, value, "option --" + key + "=" + value);
 }
 
 void Encoder::readConfig(const std::string& path) {
