@@ -1,9 +1,11 @@
 """Shared set-up of the Python module's tests (ctest runs them: tools/python/CMakeLists.txt).
 
 ctest gives the paths in the environment: PYTHONPATH (the built package), TDVO_SOURCE_DIR,
-TDVO_BIN_DIR (3dvo-enc, 3dvo-dec of the same build). Run by hand from the checkout's root:
+TDVO_BUILD_DIR, TDVO_BIN_DIR (3dvo-enc, 3dvo-dec of the same build), TDVO_PYTHON_SITE_PACKAGES
+(where the install component goes). Run by hand from the checkout's root (defaults: build/,
+build/bin/, the interpreter's platlib):
 
-    PYTHONPATH=build/python TDVO_BIN_DIR=build/bin /usr/bin/python3 -m pytest tools/python/tests
+    PYTHONPATH=build/python /usr/bin/python3 -m pytest -p no:cacheprovider tools/python/tests
 """
 
 import gzip
@@ -13,8 +15,9 @@ import pathlib
 import numpy as np
 
 SOURCE_DIR = pathlib.Path(
-    os.environ.get("TDVO_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[3]))
-BIN_DIR = pathlib.Path(os.environ.get("TDVO_BIN_DIR", SOURCE_DIR / "build" / "bin"))
+    os.environ.get("TDVO_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[3])).resolve()
+BUILD_DIR = pathlib.Path(os.environ.get("TDVO_BUILD_DIR", SOURCE_DIR / "build")).resolve()
+BIN_DIR = pathlib.Path(os.environ.get("TDVO_BIN_DIR", BUILD_DIR / "bin")).resolve()
 CONFORMANCE = SOURCE_DIR / "conformance"
 STREAMS = sorted((CONFORMANCE / "streams").glob("*.3dvo"))
 

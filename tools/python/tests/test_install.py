@@ -6,13 +6,14 @@ import os
 import pathlib
 import subprocess
 import sys
+import sysconfig
 
-from conftest import STREAMS, md5_file_lines
+from conftest import BUILD_DIR, STREAMS, md5_file_lines
 
 
 def test_install_component(tmp_path):
-    build = os.environ["TDVO_BUILD_DIR"]
-    site = os.environ["TDVO_PYTHON_SITE_PACKAGES"]
+    build = str(BUILD_DIR)
+    site = os.environ.get("TDVO_PYTHON_SITE_PACKAGES", sysconfig.get_path("platlib"))
     env = dict(os.environ, DESTDIR=str(tmp_path))
     subprocess.run([os.environ.get("TDVO_CMAKE", "cmake"), "--install", build, "--component", "python"],
                    check=True, env=env, capture_output=True)
