@@ -2,7 +2,7 @@
 # Sets everything up, then runs the main job on the bundled default: a textured 3D video object
 # (the deforming blob of 3dvo-synth, filmed by 8 cameras) is encoded with cfg/sample.cfg,
 # decoded (mesh frames, camera images, hashes checked against the encoder's), and shown: one
-# free-viewpoint view rendered to PNG, and the commands that play it in a browser.
+# free-viewpoint views rendered to PNG, and the command that plays it in a browser (3dvo-play).
 #
 # TDVO_DEMO_OUT (default demo-output) is the output folder; TDVO_DEMO_SKIP_SETUP=1 skips the
 # setup and TDVO_BIN_DIR (default build/bin) names the apps (the test of this script, ctest
@@ -30,6 +30,5 @@ echo "demo: decoded                  $out/decoded/ (OBJ frames, one PNG folder p
   "dataset.json), hashes checked against the encoder's"
 echo "demo: free views of frame 12  $out/view/0000.png .. 0015.png (rendered from the decoded" \
   "object; 0001.png lies between two cameras)"
-echo "demo: play it in a browser     $bin/3dvo-render -i $out/decoded --Mode=export" \
-  "-o build/player/data/demo --Overwrite && python3 -m http.server 8000 --bind 127.0.0.1" \
-  "--directory build/player   then open http://127.0.0.1:8000/?data=data/demo/"
+echo "demo: play it in a browser     $bin/3dvo-play $out/sample.3dvo   (serves the web player on" \
+  "127.0.0.1 and prints its URL; Ctrl-C stops it)"
