@@ -1,18 +1,34 @@
 #!/usr/bin/env bash
-# Sets everything up, then encodes and decodes the bundled default sample: a deforming blob
-# (2562 vertices, 30 frames) made by 3dvo-sample, coded with cfg/sample.cfg.
+# Sets everything up, then runs the main job on the bundled default: a textured 3D video object
+# (the deforming blob of 3dvo-synth, filmed by 8 cameras) is encoded with cfg/sample.cfg,
+# decoded (mesh frames, camera images, hashes checked against the encoder's), and shown: one
+# free-viewpoint views rendered to PNG, and the command that plays it in a browser (3dvo-play).
+#
+# TDVO_DEMO_OUT (default demo-output) is the output folder; TDVO_DEMO_SKIP_SETUP=1 skips the
+# setup and TDVO_BIN_DIR (default build/bin) names the apps (the test of this script, ctest
+# `demo`, runs it on a built tree).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
-out=demo-output
+[ "${TDVO_DEMO_SKIP_SETUP:-0}" = 1 ] || bash scripts/setup.sh
+out="${TDVO_DEMO_OUT:-demo-output}"
+bin="${TDVO_BIN_DIR:-build/bin}"
 # A second run replaces the first one's files (--Overwrite), and nothing else.
 mkdir -p "$out"
-build/bin/3dvo-sample -o "$out/input" --Overwrite
-build/bin/3dvo-enc -c cfg/sample.cfg --InputMeshPattern="$out/input/%04d.obj" \
-  --BitstreamFile="$out/sample.3dvo" | tee "$out/encoder.log"
-build/bin/3dvo-dec -i "$out/sample.3dvo" -o "$out/decoded" --Overwrite --verify "$out/encoder.log" \
+"$bin/3dvo-synth" -o "$out/rig" --FrameCount=30 --Overwrite
+"$bin/3dvo-enc" -c cfg/sample.cfg --Dataset="$out/rig" --BitstreamFile="$out/sample.3dvo" \
+  | tee "$out/encoder.log"
+"$bin/3dvo-dec" -i "$out/sample.3dvo" -o "$out/decoded" --Overwrite --verify "$out/encoder.log" \
   | tee "$out/decoder.log"
+# Frame 12 from 16 views around the object, every other one between two cameras (the ring's 8
+# cameras are 45 degrees apart).
+"$bin/3dvo-render" -i "$out/decoded" -o "$out/view" --Overwrite --FirstFrame=12 --FrameCount=1 \
+  --OrbitSteps=16
 echo
-echo "demo: input frames   $out/input/"
-echo "demo: stream         $out/sample.3dvo ($(stat -c %s "$out/sample.3dvo") bytes)"
-echo "demo: decoded frames $out/decoded/ (OBJ), hashes checked against the encoder's"
+echo "demo: input (cameras + meshes) $out/rig/"
+echo "demo: stream                   $out/sample.3dvo ($(stat -c %s "$out/sample.3dvo") bytes)"
+echo "demo: decoded                  $out/decoded/ (OBJ frames, one PNG folder per camera," \
+  "dataset.json), hashes checked against the encoder's"
+echo "demo: free views of frame 12  $out/view/0000.png .. 0015.png (rendered from the decoded" \
+  "object; 0001.png lies between two cameras)"
+echo "demo: play it in a browser     $bin/3dvo-play $out/sample.3dvo   (serves the web player on" \
+  "127.0.0.1 and prints its URL; Ctrl-C stops it)"
