@@ -15,8 +15,9 @@ def test_install_component(tmp_path):
     build = str(BUILD_DIR)
     site = os.environ.get("TDVO_PYTHON_SITE_PACKAGES", sysconfig.get_path("platlib"))
     env = dict(os.environ, DESTDIR=str(tmp_path))
-    subprocess.run([os.environ.get("TDVO_CMAKE", "cmake"), "--install", build, "--component", "python"],
-                   check=True, env=env, capture_output=True)
+    cmake = os.environ.get("TDVO_CMAKE", "cmake")
+    subprocess.run([cmake, "--install", build, "--component", "python"], check=True, env=env,
+                   capture_output=True)
     package = pathlib.Path(str(tmp_path) + site) / "tdvo"
     installed = sorted(p.name for p in package.iterdir())
     assert "__init__.py" in installed
