@@ -15,8 +15,12 @@ work="$(mktemp -d "${TMPDIR:-/tmp}/tdvo-consumer.XXXXXX")"
 trap 'rm -rf "$work"' EXIT
 cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
 cp "$here/CMakeLists.txt" "$here/main.cpp" "$work/"
+# ldd's output is taken whole before grep reads it: with pipefail, a grep -q that stops early
+# would fail the pipeline through ldd's SIGPIPE.
 no_media() {
-  if ldd "$1" | grep -E 'libav|libsw|x264|libpng|libssl|libcrypto'; then
+  local libs
+  libs="$(ldd "$1")"
+  if grep -E 'libav|libsw|x264|libpng|libssl|libcrypto' <<< "$libs"; then
     echo "$1 loads the libraries above: the geometry decoder must not" >&2
     exit 1
   fi
@@ -32,7 +36,7 @@ for kind in static shared; do
   "$work/build-$kind/tdvo_consumer" "$stream" > "$work/$kind.md5"
   diff -u "$work/expected.md5" "$work/$kind.md5"
   no_media "$work/build-$kind/tdvo_consumer"
-  if [ "$kind" = shared ] && ! ldd "$work/build-$kind/tdvo_consumer" | grep -q libtdvo_decoder; then
+  if [ "$kind" = shared ] && ! grep -q libtdvo_decoder <<< "$(ldd "$work/build-$kind/tdvo_consumer")"; then
     echo "the shared consumer does not load libtdvo_decoder.so" >&2
     exit 1
   fi
