@@ -7,6 +7,7 @@
 #include <mutex>
 #include <optional>
 
+#include "bitstream/attributes_syntax.h"
 #include "bitstream/camera_parameters.h"
 #include "bitstream/order_syntax.h"
 #include "bitstream/units.h"
@@ -129,6 +130,7 @@ class StreamDecoder::Decoding : public GomUnits {
   void expectUnit(UnitType type, const std::string& when);
   void skipTextures(const GomHeader& gh);
   IntMesh readIMesh(uint32_t frame, uint32_t frames);
+  void readAttributes(uint32_t frame);
   void limitDecodingWork(uint32_t frames, size_t vertices);
   void limitTextureWork(const std::string& where, size_t c);
   bool inRange(uint64_t frame) const { return frame >= outFirst_ && frame < outEnd_; }
@@ -168,6 +170,7 @@ class StreamDecoder::Decoding : public GomUnits {
 
   // Frames are decoded in coding order and output in the order of the last VERTEX_ORDER unit.
   MeshOrder order_;
+  DecodedAttributes attributes_;  // of the last ATTRIBUTES unit (none before one)
   IntMesh output_;
 
   // Textures.
@@ -309,8 +312,9 @@ GomHeader StreamDecoder::Decoding::readGomHeader() {
 // An intra GOM before the frame range: its units are read, their types checked.
 void StreamDecoder::Decoding::skipGom(const GomHeader& gh) {
   for (size_t k = 0; k < gh.gh_frame_count; ++k)
-    for (UnitType type : {UnitType::kIMesh, UnitType::kVertexOrder})
-      expectUnit(type, "in the GOM at frame " + std::to_string(gh.gh_first_frame));
+    for (UnitType type : {UnitType::kIMesh, UnitType::kVertexOrder, UnitType::kAttributes})
+      if (type != UnitType::kAttributes || sh_.sh_attributes_present)
+        expectUnit(type, "in the GOM at frame " + std::to_string(gh.gh_first_frame));
   skipTextures(gh);
   nextFrame_ += gh.gh_frame_count;
   gom_.clearContinuation();
@@ -367,7 +371,25 @@ IntMesh StreamDecoder::Decoding::readIMesh(uint32_t frame, uint32_t frames) {
   codeMeshOrder(reader, decoded, order_, vo.vo_triangle_order != 0);
   reader.finish();
   output_.triangles = order_.triangles;
+  if (sh_.sh_attributes_present) readAttributes(frame);
   return decoded;
+}
+
+// The ATTRIBUTES unit after the vertex order of frame `frame`'s I mesh (syntax version 3 with
+// sh_attributes_present): the texture coordinates and normals of every frame made from it.
+void StreamDecoder::Decoding::readAttributes(uint32_t frame) {
+  expectUnit(UnitType::kAttributes, "after the vertex order of frame " + std::to_string(frame));
+  AttributesUnit at;
+  // Values beyond the output's corners would be values no corner uses: their bound.
+  at.maxValues = static_cast<uint32_t>(std::min<size_t>(3 * order_.triangles.size(), UINT32_MAX));
+  parseUnitInto(unit_, name_, trace_, "the attributes", at);
+  const std::string where = name_ + ": " + unit_.describe();
+  if (at.at_frame != frame)
+    throw Error(where + ": at_frame " + std::to_string(at.at_frame) + " but expected " +
+                std::to_string(frame));
+  CabacReaderIo reader(at.at_cabac_payload.data(), at.at_cabac_payload.size(), where, trace_);
+  codeAttributes(reader, at, order_.numVertices, order_.triangles, attributes_);
+  reader.finish();
 }
 
 PMeshPayload StreamDecoder::Decoding::pMesh(uint32_t k) {
@@ -386,6 +408,7 @@ PMeshPayload StreamDecoder::Decoding::pMesh(uint32_t k) {
 void StreamDecoder::Decoding::emit(uint32_t frame, const std::vector<Vec3i>& positions) {
   if (!inRange(frame)) return;
   applyVertexOrder(order_, positions, output_.positions);
+  applyAttributes(attributes_, output_);
   onFrame_(static_cast<int>(frame), output_);
 }
 
