@@ -10,12 +10,15 @@
 // computes per-vertex normals of each output frame (computeVertexNormals, mesh_attributes.h).
 //
 // Payload (one CABAC codeword, fresh contexts):
-//   if at_uv_mode != 0: values(2 components, at_uv_delta), then if mode 2: indices(at_uv_*)
-//   if at_normal_mode is 1 or 2: values(3 components, at_normal_delta), then if mode 2:
-//       indices(at_normal_*)
+//   if at_uv_mode != 0: if mode 2: indices(at_uv_*); values(2 components, at_uv_delta)
+//   if at_normal_mode is 1 or 2: if mode 2: indices(at_normal_*); values(3 components,
+//       at_normal_delta)
 //   end_of_payload (terminate bin 1)
-// values: for each value in order, for each component c, the signed difference of its key from
-//   the previous value's component-c key (0 before the first value). Unquantised (at_*_quant_
+// values: for each value i in order, for each component c, the signed difference of its key
+//   from a prediction: the mean (rounded, halves up) of the component-c keys of the values
+//   j < i that share a triangle with i through the index triangles (per vertex: the output
+//   triangles), each counted once per triangle corner pair; without any, value i - 1's key
+//   (0 for the first). Unquantised (at_*_quant_
 //   bits 0), the key of a float32 is its bit pattern b read as an integer that orders like the
 //   float: b when the sign bit is clear, -(b & 0x7FFFFFFF) - 1 when set (so every float, -0 and
 //   NaNs included, is coded exactly; keys lie in [-2^31, 2^31 - 1], differences within
@@ -78,6 +81,11 @@ inline float keyFloat(int64_t key) {
   return f;
 }
 
+// floor(a / b) for b > 0.
+inline int64_t floorDiv(int64_t a, int64_t b) {
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+
 // The quantised value of `f` at `bits` (> 0): round(f * 2^bits), halves away from zero; the
 // writer checks that it is within +-kMaxAttributeQuantValue.
 inline int64_t quantKey(float f, int bits) {
@@ -86,15 +94,52 @@ inline int64_t quantKey(float f, int bits) {
 
 // `count` values of N components (writing: `values` holds them; with `bits` > 0 they are
 // replaced by what the decoder makes of their quantised values).
+// The values that share a triangle with each value (through the index triangles), listed once
+// per corner pair: start[i] .. start[i + 1] in `list`.
+struct ValueNeighbours {
+  std::vector<uint32_t> start, list;
+  ValueNeighbours(const std::vector<Triangle>& indices, uint32_t count) : start(count + 1, 0) {
+    for (const Triangle& t : indices)
+      for (uint32_t i : t)
+        start[i + 1] += 2;
+    for (uint32_t i = 0; i < count; ++i)
+      start[i + 1] += start[i];
+    list.resize(start[count]);
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (const Triangle& t : indices)
+      for (int c = 0; c < 3; ++c) {
+        list[fill[t[c]]++] = t[(c + 1) % 3];
+        list[fill[t[c]]++] = t[(c + 2) % 3];
+      }
+  }
+};
+
 template <class Io, size_t N>
 void codeValues(Io& io, const char* name, OrderContexts::Set* ctx,
-                std::vector<std::array<float, N>>& values, uint32_t count, int bits) {
+                std::vector<std::array<float, N>>& values, uint32_t count, int bits,
+                const std::vector<Triangle>& indices) {
   if (Io::kReading) values.assign(count, std::array<float, N>{});
+  const ValueNeighbours neighbours(indices, count);
+  std::vector<std::array<int64_t, N>> keys(count);
   const int64_t maxKey = bits > 0 ? kMaxAttributeQuantValue : INT32_MAX;
   const int64_t minKey = bits > 0 ? -int64_t{kMaxAttributeQuantValue} : INT32_MIN;
   const uint32_t maxDelta = static_cast<uint32_t>(maxKey - minKey);
-  int64_t previous[N] = {};
-  for (std::array<float, N>& value : values)
+  for (uint32_t i = 0; i < count; ++i) {
+    std::array<float, N>& value = values[i];
+    // The prediction: the mean key of the values already coded that share a triangle with this
+    // one, else the previous value's (0 for the first).
+    int64_t sum[N] = {};
+    int64_t n = 0;
+    for (uint32_t k = neighbours.start[i]; k < neighbours.start[i + 1]; ++k) {
+      const uint32_t j = neighbours.list[k];
+      if (j >= i) continue;
+      for (size_t c = 0; c < N; ++c)
+        sum[c] += keys[j][c];
+      ++n;
+    }
+    int64_t previous[N] = {};
+    for (size_t c = 0; c < N; ++c)
+      previous[c] = n > 0 ? floorDiv(2 * sum[c] + n, 2 * n) : i > 0 ? keys[i - 1][c] : 0;
     for (size_t c = 0; c < N; ++c) {
       int64_t delta = 0;
       if (!Io::kReading) {
@@ -114,8 +159,9 @@ void codeValues(Io& io, const char* name, OrderContexts::Set* ctx,
                                                  : " takes the value past a float's bit pattern"));
       // q * 2^-bits is exact in float (|q| < 2^24).
       value[c] = bits > 0 ? std::ldexp(static_cast<float>(key), -bits) : keyFloat(key);
-      previous[c] = key;
+      keys[i][c] = key;
     }
+  }
 }
 
 // The index triangles of `count` values, one per output triangle (writing: `indices` holds
@@ -176,12 +222,12 @@ void codeAttributes(Io& io, const AttributesUnit& at, uint32_t numVertices,
     const bool perCorner = uvMode == UvMode::kPerCorner;
     const uint32_t count = perCorner ? at.at_num_uvs : numVertices;
     if (!Io::kReading) io.require(m.uvs.size() == count, "at_uv values: wrong count");
-    codeValues(io, "at_uv_delta", ctx.uv, m.uvs, count, at.at_uv_quant_bits);
     if (perCorner)
       codeIndices(io, "at_uv_same", "at_uv_new", "at_uv_index", ctx.uvSame, ctx.uvNew, ctx.uvIndex,
                   triangles, numVertices, m.uvTriangles, count);
     else
       m.uvTriangles = triangles;
+    codeValues(io, "at_uv_delta", ctx.uv, m.uvs, count, at.at_uv_quant_bits, m.uvTriangles);
   } else if (Io::kReading) {
     m.uvs.clear();
     m.uvTriangles.clear();
@@ -190,12 +236,13 @@ void codeAttributes(Io& io, const AttributesUnit& at, uint32_t numVertices,
     const bool perCorner = normalMode == NormalMode::kPerCorner;
     const uint32_t count = perCorner ? at.at_num_normals : numVertices;
     if (!Io::kReading) io.require(m.normals.size() == count, "at_normal values: wrong count");
-    codeValues(io, "at_normal_delta", ctx.normal, m.normals, count, at.at_normal_quant_bits);
     if (perCorner)
       codeIndices(io, "at_normal_same", "at_normal_new", "at_normal_index", ctx.normalSame,
                   ctx.normalNew, ctx.normalIndex, triangles, numVertices, m.normalTriangles, count);
     else
       m.normalTriangles = triangles;
+    codeValues(io, "at_normal_delta", ctx.normal, m.normals, count, at.at_normal_quant_bits,
+               m.normalTriangles);
   } else if (Io::kReading) {
     m.normals.clear();
     m.normalTriangles.clear();
