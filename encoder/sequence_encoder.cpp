@@ -36,7 +36,8 @@ class GomWriter {
     // How normals are carried, said when it changes (the first time, and from the GOM on that
     // changes it).
     if (attributesPresent_ && gom.normals != normals_) {
-      std::fprintf(stderr, "3dvo-enc: normals from frame %zu on: %s\n", first, gom.normals.c_str());
+      std::fprintf(stderr, "3dvo-enc: normals from frame %lld on: %s\n",
+                   static_cast<long long>(first) + firstFrame_, gom.normals.c_str());
       normals_ = gom.normals;
     }
     for (const GomGeometry::Unit& unit : gom.units)
@@ -86,6 +87,7 @@ class GomWriter {
 
  public:
   bool attributesPresent_ = false;
+  int firstFrame_ = 0;  // the input's frame number of stream frame 0 (for messages)
 
  private:
   std::string normals_;  // the last normals line printed
@@ -199,6 +201,7 @@ EncodedSequence encodeSequence(const EncoderParams& inParams, const Grid& grid,
   };
   GomWriter writer(grid, onFrame, textures, onTexture, units, out, keepInputIndex);
   writer.attributesPresent_ = params.attributesPresent;
+  writer.firstFrame_ = params.firstFrame;
   // Runs of GOMs from one random access point to the next (RandomAccessPeriod; P-mesh modes
   // only) are coded one after the other in a task, as each GOM of a run may continue the
   // previous one's connectivity; runs are independent.
