@@ -72,8 +72,7 @@ class ObjParser {
   struct Attribute {
     explicit Attribute(const char* name) : what(name) {}
     const char* what;
-    int state = 0;  // 0: no face yet, 1: faces give it, 2: faces do not
-    size_t firstLine = 0;
+    int state = 0;  // 0: no face yet, 1: every corner gives it, 2: none does, 3: some do
     uint32_t maxIndex = 0;
     size_t maxIndexLine = 0;
     std::vector<uint32_t> corners;    // of the current face
@@ -142,7 +141,7 @@ class ObjParser {
         properTriangles_ += corners_[0] != corners_[i] && corners_[i] != corners_[i + 1] &&
                             corners_[0] != corners_[i + 1];
         for (Attribute* a : {&uv_, &normal_})
-          if (!a->corners.empty())
+          if (a->state == 1)
             a->triangles.push_back({a->corners[0], a->corners[i], a->corners[i + 1]});
       }
     } else if (keyword == "vp" || keyword == "o" || keyword == "g" || keyword == "s" ||
@@ -180,14 +179,12 @@ class ObjParser {
   // `count` values read so far. A file's faces either all give the attribute or none does.
   void attributeIndex(Attribute& a, std::string_view part, std::string_view token, size_t count) {
     const bool given = !part.empty();
-    if (a.state == 0) {
-      a.state = given ? 1 : 2;
-      a.firstLine = lineNumber_;
+    if (a.state == 0) a.state = given ? 1 : 2;
+    if (a.state != 3 && given != (a.state == 1)) {
+      a.state = 3;  // some corners give it, some do not: the mesh cannot have it
+      a.corners.clear();
+      std::vector<Triangle>().swap(a.triangles);
     }
-    if (given != (a.state == 1))
-      fail(std::string("face corner '") + std::string(token) + "' " +
-           (given ? "gives a " : "gives no ") + a.what +
-           " index, unlike the faces before it (line " + std::to_string(a.firstLine) + ")");
     if (!given) return;
     long long value = 0;
     auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), value);
@@ -196,6 +193,7 @@ class ObjParser {
     if (value < 0) value += static_cast<long long>(count) + 1;
     if (value < 1 || value > 0xFFFFFFFFLL)
       fail(std::string(a.what) + " index in '" + std::string(token) + "' out of range");
+    if (a.state != 1) return;
     const uint32_t result = static_cast<uint32_t>(value - 1);
     if (result > a.maxIndex || a.maxIndexLine == 0) {
       a.maxIndex = result;
@@ -205,10 +203,10 @@ class ObjParser {
   }
 
   // The index triangles of an attribute, checked against its `count` values (which may come
-  // later in the file); false when the faces do not give it (its values are then dropped: no
-  // corner uses them).
+  // later in the file); false when not every face corner gives it, or the file has no values
+  // for it (what there is of it is then dropped: a mesh has it at every corner or not at all).
   bool finishAttribute(Attribute& a, size_t count, std::vector<Triangle>& triangles) {
-    if (a.state != 1) return false;
+    if (a.state != 1 || count == 0) return false;
     if (a.maxIndex >= count) {
       lineNumber_ = a.maxIndexLine;
       fail(std::string(a.what) + " index " + std::to_string(a.maxIndex + 1ull) +
@@ -257,6 +255,17 @@ void appendNumber(std::string& out, T value) {
   out.append(buffer, result.ptr);
 }
 
+// "keyword x y ...\n", each number in its shortest exact form.
+template <class Values>
+void appendLine(std::string& out, const char* keyword, const Values& values) {
+  out += keyword;
+  for (auto c : values) {
+    out += ' ';
+    appendNumber(out, c);
+  }
+  out += '\n';
+}
+
 }  // namespace
 
 Mesh parseObj(const std::string& text, const std::string& name) {
@@ -278,34 +287,16 @@ std::string formatObj(const Mesh& mesh) {
   const bool normals = at.hasNormals() && at.normalTriangles.size() == mesh.triangles.size();
   std::string out;
   out.reserve(mesh.positions.size() * 40 + mesh.triangles.size() * (24 + 24 * (uvs + normals)));
-  for (const Vec3d& p : mesh.positions) {
-    out += 'v';
-    for (double c : p) {
-      out += ' ';
-      appendNumber(out, c);
-    }
-    out += '\n';
-  }
+  for (const Vec3d& p : mesh.positions)
+    appendLine(out, "v", p);
   // Texture coordinates and normals in the shortest decimal form that reads back to the same
   // float.
   if (uvs)
-    for (const Vec2f& t : at.uvs) {
-      out += "vt";
-      for (float c : t) {
-        out += ' ';
-        appendNumber(out, c);
-      }
-      out += '\n';
-    }
+    for (const Vec2f& t : at.uvs)
+      appendLine(out, "vt", t);
   if (normals)
-    for (const Vec3f& n : at.normals) {
-      out += "vn";
-      for (float c : n) {
-        out += ' ';
-        appendNumber(out, c);
-      }
-      out += '\n';
-    }
+    for (const Vec3f& n : at.normals)
+      appendLine(out, "vn", n);
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     out += 'f';
     for (int c = 0; c < 3; ++c) {

@@ -19,13 +19,13 @@ constexpr size_t kMaxObjTriangles = size_t{1} << 27;  // 4 x the codec's 2^25
 // Takes `v x y z` and `f a b c ...` lines (a/b/c index forms and negative indices allowed);
 // polygons with more than three corners are triangulated as a fan around their first corner.
 // `vt u v` and `vn x y z` lines with the faces' `v/vt`, `v//vn` or `v/vt/vn` corner indices are
-// the mesh's attributes (per corner, mesh.h; read as float); every face must give the same
-// parts, and values no face refers to are dropped. Groups, materials and comments are ignored.
-// Throws Error
-// naming the file and line for anything malformed (bad numbers, indices out of range,
-// faces with fewer than three corners, unknown statements), for a mesh without faces and for
-// one whose every face has a repeated vertex. Triangles with a repeated vertex among proper
-// ones are kept (3dvo-enc drops them, counting them in a warning).
+// the mesh's attributes (per corner, mesh.h; read as float) when every face corner gives the
+// index and the file has the values (an index beyond them is an error); otherwise that
+// attribute is left out (a mesh has it at every corner or not at all). Groups, materials and
+// comments are ignored. Throws Error naming the file and line for anything malformed (bad numbers,
+// indices out of range, faces with fewer than three corners, unknown statements), for a mesh
+// without faces and for one whose every face has a repeated vertex. Triangles with a repeated
+// vertex among proper ones are kept (3dvo-enc drops them, counting them in a warning).
 Mesh readObj(const std::string& path);
 
 // Parses OBJ text; `name` is used in error messages only.
