@@ -448,14 +448,9 @@ std::vector<std::string> md5Lines(const std::string& out) {
 // A few frames of horse-gallop (shared data): OBJ -> 3DVO -> glTF and, through PLY input,
 // PLY -> 3DVO -> PLY.
 TEST(FormatsRoundTrip, SharedSequenceHorseGallop) {
-  const std::string pattern =
-      std::string(TDVO_SHARED_DATA_DIR) + "/meshseq/horse-gallop/%04d.obj.gz";
-  if (!std::filesystem::exists(framePath(pattern, 1)))
-    GTEST_SKIP() << "horse-gallop data not found (" << pattern
-                 << "); the generated-mesh round trips above still ran";
-  std::vector<Mesh> frames;
-  for (int f = 1; f <= 4; ++f)
-    frames.push_back(readObj(framePath(pattern, f)));
+  std::string missing;
+  std::vector<Mesh> frames = test::sharedHorseFrames(TDVO_SHARED_DATA_DIR, 1, 4, missing);
+  if (frames.empty()) GTEST_SKIP() << missing;
   roundTrip(frames, ".obj", "glb", ".glb", 14);
   roundTrip(frames, ".ply", "ply", ".ply", 14);
 }

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "common/core/mesh.h"
+#include "common/core/obj_io.h"
 #include "tools/eval/sample_mesh.h"
 
 namespace tdvo {
@@ -172,6 +173,27 @@ inline std::vector<Mesh> wobblingSphere(int subdivisions, int frames, double rad
     out.push_back(std::move(m));
   }
   return out;
+}
+
+// Frames `first` .. `first` + `count` - 1 of horse-gallop from the shared data folder
+// `sharedDir` (TDVO_SHARED_DATA_DIR); empty, with `missing` set to a message for a skip, when
+// the data is not there.
+inline std::vector<Mesh> sharedHorseFrames(const std::string& sharedDir, int first, int count,
+                                           std::string& missing) {
+  const std::string pattern = sharedDir + "/meshseq/horse-gallop/%04d.obj.gz";
+  char name[4096];
+  std::snprintf(name, sizeof name, pattern.c_str(), first);
+  std::vector<Mesh> frames;
+  if (!std::filesystem::exists(name)) {
+    missing =
+        "horse-gallop data not found (" + pattern + "); the generated-mesh round trips still ran";
+    return frames;
+  }
+  for (int f = first; f < first + count; ++f) {
+    std::snprintf(name, sizeof name, pattern.c_str(), f);
+    frames.push_back(readObj(name));
+  }
+  return frames;
 }
 
 // The largest extent of the frames' bounding box over all axes.
