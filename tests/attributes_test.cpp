@@ -32,14 +32,7 @@ namespace {
 
 const std::string kBin = TDVO_BIN_DIR;
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using test::errorOf;
 
 // The value at every triangle corner: what a file keeps whether or not it splits seams.
 template <class T>

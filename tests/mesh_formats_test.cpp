@@ -42,14 +42,7 @@ void expectClose(const Mesh& in, const Mesh& out, double tolerance, const std::s
   EXPECT_EQ(in.triangles, out.triangles) << what;
 }
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using test::errorOf;
 
 // ---- PLY ----
 

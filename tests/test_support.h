@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -24,6 +25,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/core/error.h"
 #include "common/core/mesh.h"
 #include "common/core/obj_io.h"
 #include "tools/eval/sample_mesh.h"
@@ -194,6 +196,16 @@ inline std::vector<Mesh> sharedHorseFrames(const std::string& sharedDir, int fir
     frames.push_back(readObj(name));
   }
   return frames;
+}
+
+// What `f` throws as tdvo::Error, or "no error".
+inline std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
 }
 
 // The largest extent of the frames' bounding box over all axes.
