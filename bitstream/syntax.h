@@ -23,8 +23,11 @@ std::vector<uint8_t> serialise(T value) {
 }
 
 // Bumped whenever the syntax or the decoding process changes; conformance streams are then
-// regenerated (conformance/README.md).
-constexpr uint16_t kSyntaxVersion = 2;
+// regenerated (conformance/README.md). A decoder reads kMinSyntaxVersion .. kSyntaxVersion.
+// Version 2 is version 3 without ATTRIBUTES units: its sequence header has no
+// sh_attributes_present (read as 0), which is the only place the versions differ.
+constexpr uint16_t kSyntaxVersion = 3;
+constexpr uint16_t kMinSyntaxVersion = 2;
 
 // Limits a decoder checks before it allocates anything (docs/bitstream.md, "Limits").
 constexpr uint32_t kMaxFrames = 1000000;
@@ -145,6 +148,8 @@ struct SequenceHeader {
   uint8_t sh_grid_bits = 12;
   double sh_grid_origin[3] = {0, 0, 0};
   double sh_grid_step = 1.0;
+  // Version 3 on: 1 = every VERTEX_ORDER unit is followed by an ATTRIBUTES unit.
+  uint8_t sh_attributes_present = 0;
   std::vector<CameraParameters> cameras;  // sh_num_cameras; textures are coded when > 0
   // Present when sh_num_cameras > 0: the input dataset's fields the rest does not code.
   std::string sh_description;  // free text
@@ -155,10 +160,10 @@ struct SequenceHeader {
 template <class Io>
 void transfer(Io& io, SequenceHeader& sh) {
   io.u16("sh_syntax_version", sh.sh_syntax_version);
-  io.require(sh.sh_syntax_version == kSyntaxVersion,
+  io.require(sh.sh_syntax_version >= kMinSyntaxVersion && sh.sh_syntax_version <= kSyntaxVersion,
              "sh_syntax_version " + std::to_string(sh.sh_syntax_version) +
-                 " is not supported (this decoder reads version " + std::to_string(kSyntaxVersion) +
-                 ")");
+                 " is not supported (this decoder reads versions " +
+                 std::to_string(kMinSyntaxVersion) + " to " + std::to_string(kSyntaxVersion) + ")");
   io.u32("sh_first_frame", sh.sh_first_frame, 0, kMaxFirstFrame);
   io.u32("sh_frame_count", sh.sh_frame_count, 1, kMaxFrames);
   io.f64("sh_frame_rate", sh.sh_frame_rate);
@@ -174,6 +179,11 @@ void transfer(Io& io, SequenceHeader& sh) {
              "sh_grid_origin must be finite");
   io.require(std::isfinite(sh.sh_grid_step) && sh.sh_grid_step > 0,
              "sh_grid_step must be finite and positive");
+  // The one difference between versions 2 and 3 (a version 2 stream has no ATTRIBUTES units).
+  if (sh.sh_syntax_version >= 3)
+    io.u8("sh_attributes_present", sh.sh_attributes_present, 0, 1);
+  else
+    sh.sh_attributes_present = 0;
   uint16_t numCameras = static_cast<uint16_t>(sh.cameras.size());
   io.u16("sh_num_cameras", numCameras, 0, kMaxCameras);
   if (Io::kReading) sh.cameras.resize(numCameras);
@@ -267,6 +277,55 @@ void transfer(Io& io, VertexOrderUnit& vo) {
   io.u32("vo_num_vertices", vo.vo_num_vertices, 1, kMaxVertices);
   io.u8("vo_triangle_order", vo.vo_triangle_order, 0, 1);
   io.rest("vo_cabac_payload", vo.vo_cabac_payload);
+}
+
+// Texture coordinates and normals of the I mesh just before it (after its VERTEX_ORDER unit),
+// in its output order; its payload is CABAC-coded (attributes_syntax.h).
+enum class UvMode : uint8_t {
+  kNone = 0,
+  kPerVertex = 1,  // one per output vertex; the index triangles are the output triangles
+  kPerCorner = 2,  // at_num_uvs values and an index per output triangle corner
+};
+enum class NormalMode : uint8_t {
+  kNone = 0,
+  kPerVertex = 1,
+  kPerCorner = 2,
+  kComputed = 3,  // not coded: the decoder computes per-vertex normals of every frame
+};
+
+// Quantised values (a *_quant_bits above 0) are integers q with value q * 2^-bits, |q| < 2^24.
+constexpr uint8_t kMaxAttributeQuantBits = 24;
+constexpr int32_t kMaxAttributeQuantValue = (1 << 24) - 1;
+
+struct AttributesUnit {
+  uint32_t at_frame = 0;
+  uint8_t at_uv_mode = 0;            // UvMode
+  uint8_t at_uv_quant_bits = 0;      // at_uv_mode != 0; 0: the float32 values exactly
+  uint32_t at_num_uvs = 0;           // at_uv_mode 2
+  uint8_t at_normal_mode = 0;        // NormalMode
+  uint8_t at_normal_quant_bits = 0;  // at_normal_mode 1 or 2; 0: exactly
+  uint32_t at_num_normals = 0;       // at_normal_mode 2
+  std::vector<uint8_t> at_cabac_payload;
+  // Not coded: the bound of at_num_uvs and at_num_normals, 3 x the output triangles of the I
+  // mesh (set before parsing).
+  uint32_t maxValues = 0;
+};
+
+template <class Io>
+void transfer(Io& io, AttributesUnit& at) {
+  io.u32("at_frame", at.at_frame, 0, kMaxFrames - 1);
+  io.u8("at_uv_mode", at.at_uv_mode, 0, 2);
+  if (at.at_uv_mode != static_cast<uint8_t>(UvMode::kNone))
+    io.u8("at_uv_quant_bits", at.at_uv_quant_bits, 0, kMaxAttributeQuantBits);
+  if (at.at_uv_mode == static_cast<uint8_t>(UvMode::kPerCorner))
+    io.u32("at_num_uvs", at.at_num_uvs, 1, at.maxValues);
+  io.u8("at_normal_mode", at.at_normal_mode, 0, 3);
+  if (at.at_normal_mode == static_cast<uint8_t>(NormalMode::kPerVertex) ||
+      at.at_normal_mode == static_cast<uint8_t>(NormalMode::kPerCorner))
+    io.u8("at_normal_quant_bits", at.at_normal_quant_bits, 0, kMaxAttributeQuantBits);
+  if (at.at_normal_mode == static_cast<uint8_t>(NormalMode::kPerCorner))
+    io.u32("at_num_normals", at.at_num_normals, 1, at.maxValues);
+  io.rest("at_cabac_payload", at.at_cabac_payload);
 }
 
 // A P mesh: positions only, predicted from the previous decoded frame of the GOM; the payload

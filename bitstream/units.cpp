@@ -47,6 +47,8 @@ const char* unitTypeName(uint8_t type) {
       return "TEXTURE";
     case UnitType::kVertexOrder:
       return "VERTEX_ORDER";
+    case UnitType::kAttributes:
+      return "ATTRIBUTES";
   }
   return "unknown type";
 }

@@ -21,6 +21,7 @@ enum class UnitType : uint8_t {
   kPMesh = 4,
   kTexture = 5,
   kVertexOrder = 6,
+  kAttributes = 7,  // syntax version 3 on
 };
 
 const char* unitTypeName(uint8_t type);

@@ -124,8 +124,7 @@ bool Decoder::next(DecodedFrame& frame) {
   if (!s.decoder->pullFrame(index, mesh, s.textureUnits.get(), &frame.textures)) return false;
   frame.index = index;
   frame.number = s.info.frameNumber(index);
-  frame.mesh.positions = mesh->positions;
-  frame.mesh.triangles = mesh->triangles;
+  frame.mesh = *mesh;  // positions, triangles, texture coordinates and normals
   frame.positions.resize(mesh->positions.size());
   for (size_t v = 0; v < mesh->positions.size(); ++v) {
     const Vec3d p = s.info.grid.dequantise(mesh->positions[v]);

@@ -51,7 +51,7 @@ void GomDecoder::startPMeshes(GomUnits& units) {
     } catch (const Error& e) {  // the connectivity: name the unit that gave it
       throw Error(where + ": " + e.what());
     }
-  if (keepFirst_) first_ = {IntMesh{previous_, mesh_.triangles}, topology_};
+  if (keepFirst_) first_ = {IntMesh{previous_, mesh_.triangles, {}}, topology_};
   n_ = randomAccess_ ? 1 : 0;  // a random access point's keyframe 0 is its I mesh
 }
 

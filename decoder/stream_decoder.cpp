@@ -7,6 +7,7 @@
 #include <mutex>
 #include <optional>
 
+#include "bitstream/attributes_syntax.h"
 #include "bitstream/camera_parameters.h"
 #include "bitstream/order_syntax.h"
 #include "bitstream/units.h"
@@ -48,6 +49,12 @@ void parseUnitInto(const UnitView& unit, const std::string& name, std::FILE* tra
                     trace);
   transfer(reader, value);
   reader.expectEnd(structure);
+}
+
+// "a TEXTURE unit", "an I_MESH unit": a unit type in messages.
+std::string aUnit(UnitType type) {
+  const std::string name = unitTypeName(static_cast<uint8_t>(type));
+  return (std::string("AEIOU").find(name[0]) == std::string::npos ? "a " : "an ") + name + " unit";
 }
 
 template <class T>
@@ -140,6 +147,7 @@ class StreamDecoder::Decoding : public GomUnits {
                     std::vector<DecodedTexture>& textures, bool output);
   void expectEnd();
   void emit(uint32_t frame, const std::vector<Vec3i>& positions);
+  void makeOutput(const std::vector<Vec3i>& positions);
 
   // ---- Units and limits ----
   void expectUnit(UnitType type, const std::string& when) {
@@ -148,6 +156,7 @@ class StreamDecoder::Decoding : public GomUnits {
   void expectUnit(UnitSource& from, UnitView& unit, UnitType type, const std::string& when);
   void skipTextures(const GomHeader& gh);
   IntMesh readIMesh(uint32_t frame, uint32_t frames);
+  void readAttributes(uint32_t frame);
   void limitDecodingWork(uint32_t frames, size_t vertices);
   void limitTextureWork(const std::string& where, size_t c, uint64_t bytesRead);
   bool inRange(uint64_t frame) const { return frame >= outFirst_ && frame < outEnd_; }
@@ -188,6 +197,7 @@ class StreamDecoder::Decoding : public GomUnits {
 
   // Frames are decoded in coding order and output in the order of the last VERTEX_ORDER unit.
   MeshOrder order_;
+  DecodedAttributes attributes_;  // of the last ATTRIBUTES unit (none before one)
   IntMesh output_;
 
   // Pull-style decoding: the GOM whose frames pull() is making.
@@ -207,11 +217,10 @@ class StreamDecoder::Decoding : public GomUnits {
 void StreamDecoder::Decoding::expectUnit(UnitSource& from, UnitView& unit, UnitType type,
                                          const std::string& when) {
   if (!from.next(unit))
-    throw Error(name_ + ": stream ends " + when + " (expected a " +
-                unitTypeName(static_cast<uint8_t>(type)) + " unit; truncated stream)");
+    throw Error(name_ + ": stream ends " + when + " (expected " + aUnit(type) +
+                "; truncated stream)");
   if (unit.type != static_cast<uint8_t>(type))
-    throw Error(name_ + ": " + unit.describe() + ": expected a " +
-                unitTypeName(static_cast<uint8_t>(type)) + " unit " + when);
+    throw Error(name_ + ": " + unit.describe() + ": expected " + aUnit(type) + " " + when);
 }
 
 void StreamDecoder::Decoding::expectEnd() {
@@ -343,8 +352,9 @@ GomHeader StreamDecoder::Decoding::readGomHeader() {
 // An intra GOM before the frame range: its units are read, their types checked.
 void StreamDecoder::Decoding::skipGom(const GomHeader& gh) {
   for (size_t k = 0; k < gh.gh_frame_count; ++k)
-    for (UnitType type : {UnitType::kIMesh, UnitType::kVertexOrder})
-      expectUnit(type, "in the GOM at frame " + std::to_string(gh.gh_first_frame));
+    for (UnitType type : {UnitType::kIMesh, UnitType::kVertexOrder, UnitType::kAttributes})
+      if (type != UnitType::kAttributes || sh_.sh_attributes_present)
+        expectUnit(type, "in the GOM at frame " + std::to_string(gh.gh_first_frame));
   skipTextures(gh);
   nextFrame_ += gh.gh_frame_count;
   gom_.clearContinuation();
@@ -406,7 +416,25 @@ IntMesh StreamDecoder::Decoding::readIMesh(uint32_t frame, uint32_t frames) {
   codeMeshOrder(reader, decoded, order_, vo.vo_triangle_order != 0);
   reader.finish();
   output_.triangles = order_.triangles;
+  if (sh_.sh_attributes_present) readAttributes(frame);
   return decoded;
+}
+
+// The ATTRIBUTES unit after the vertex order of frame `frame`'s I mesh (syntax version 3 with
+// sh_attributes_present): the texture coordinates and normals of every frame made from it.
+void StreamDecoder::Decoding::readAttributes(uint32_t frame) {
+  expectUnit(UnitType::kAttributes, "after the vertex order of frame " + std::to_string(frame));
+  AttributesUnit at;
+  // Values beyond the output's corners would be values no corner uses: their bound.
+  at.maxValues = static_cast<uint32_t>(std::min<size_t>(3 * order_.triangles.size(), UINT32_MAX));
+  parseUnitInto(unit_, name_, trace_, "the attributes", at);
+  const std::string where = name_ + ": " + unit_.describe();
+  if (at.at_frame != frame)
+    throw Error(where + ": at_frame " + std::to_string(at.at_frame) + " but expected " +
+                std::to_string(frame));
+  CabacReaderIo reader(at.at_cabac_payload.data(), at.at_cabac_payload.size(), where, trace_);
+  codeAttributes(reader, at, order_.numVertices, order_.triangles, attributes_);
+  reader.finish();
 }
 
 PMeshPayload StreamDecoder::Decoding::pMesh(uint32_t k) {
@@ -424,8 +452,15 @@ PMeshPayload StreamDecoder::Decoding::pMesh(uint32_t k) {
 // Output: a frame in the range, in the output order, to onFrame.
 void StreamDecoder::Decoding::emit(uint32_t frame, const std::vector<Vec3i>& positions) {
   if (!inRange(frame)) return;
-  applyVertexOrder(order_, positions, output_.positions);
+  makeOutput(positions);
   onFrame_(static_cast<int>(frame), output_);
+}
+
+// output_: a frame's positions (in the GOM's vertex order) in the output order, with the
+// triangles and attributes of the I mesh it was made from.
+void StreamDecoder::Decoding::makeOutput(const std::vector<Vec3i>& positions) {
+  applyVertexOrder(order_, positions, output_.positions);
+  applyAttributes(attributes_, output_);
 }
 
 // A GOM's texture pass. Item i = k * cameras + c is camera c's texture of the GOM's frame k.
@@ -587,7 +622,7 @@ bool StreamDecoder::Decoding::pull(uint32_t& frame, const IntMesh*& mesh, UnitSo
         // GOM): decoded, not output; their pictures too, which later ones are predicted from.
         if (textureUnits_) pullTextures(f, positions, *textures, inRange(f));
         if (!inRange(f)) continue;
-        applyVertexOrder(order_, positions, output_.positions);
+        makeOutput(positions);
         frame = f;
         mesh = &output_;
         return true;
@@ -623,14 +658,14 @@ void StreamDecoder::Decoding::startPulledTextures(UnitSource& textureUnits) {
   const std::string when = "in the GOM at frame " + std::to_string(gh_.gh_first_frame);
   for (;;) {
     if (!textureUnits.next(textureUnit_))
-      throw Error(name_ + ": stream ends " + when + " (expected a " +
-                  unitTypeName(static_cast<uint8_t>(UnitType::kTexture)) +
-                  " unit; truncated stream)");
+      throw Error(name_ + ": stream ends " + when + " (expected " + aUnit(UnitType::kTexture) +
+                  "; truncated stream)");
     const auto type = static_cast<UnitType>(textureUnit_.type);
     if (type == UnitType::kTexture) break;
-    if (type != UnitType::kIMesh && type != UnitType::kVertexOrder && type != UnitType::kPMesh)
-      throw Error(name_ + ": " + textureUnit_.describe() + ": expected a " +
-                  unitTypeName(static_cast<uint8_t>(UnitType::kTexture)) + " unit " + when);
+    if (type != UnitType::kIMesh && type != UnitType::kVertexOrder &&
+        type != UnitType::kAttributes && type != UnitType::kPMesh)
+      throw Error(name_ + ": " + textureUnit_.describe() + ": expected " +
+                  aUnit(UnitType::kTexture) + " " + when);
   }
   textureUnits.seek(textureUnit_.offset, textureUnit_.index);
   textureUnits_ = &textureUnits;

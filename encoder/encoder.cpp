@@ -90,6 +90,17 @@ const Dataset* Encoder::dataset() {
 
 namespace {
 
+// Every index of `triangles` below `count`, the number of `values` the frame has (`what`: one of
+// them).
+void checkIndices(const std::vector<Triangle>& triangles, size_t count, const std::string& name,
+                  const char* what, const char* values) {
+  for (size_t t = 0; t < triangles.size(); ++t)
+    for (uint32_t i : triangles[t])
+      check(i < count, name + ": triangle " + std::to_string(t) + ": " + what + " index " +
+                           std::to_string(i) + " out of range (the frame has " +
+                           std::to_string(count) + " " + values + ")");
+}
+
 // A frame given from memory, checked as a mesh file's reader checks one: positions finite and
 // within the readers' range, triangle indices within the positions; counts within the codec's
 // limits (bitstream/syntax.h).
@@ -102,12 +113,26 @@ void checkFrame(const Mesh& mesh, const std::string& name) {
     for (double c : mesh.positions[v])
       check(std::isfinite(c) && std::fabs(c) <= 1e300,
             name + ": vertex " + std::to_string(v) + " has a non-finite coordinate");
-  for (size_t t = 0; t < mesh.triangles.size(); ++t)
-    for (uint32_t i : mesh.triangles[t])
-      check(i < mesh.positions.size(), name + ": triangle " + std::to_string(t) +
-                                           ": vertex index " + std::to_string(i) +
-                                           " out of range (the frame has " +
-                                           std::to_string(mesh.positions.size()) + " vertices)");
+  checkIndices(mesh.triangles, mesh.positions.size(), name, "vertex", "vertices");
+  // Texture coordinates and normals (mesh.h): one index triangle per triangle, indices within
+  // the values, finite values.
+  const MeshAttributes& a = mesh.attributes;
+  check(a.uvs.empty() == a.uvTriangles.empty() && a.normals.empty() == a.normalTriangles.empty(),
+        name + ": texture coordinates or normals without their index triangles (or the reverse)");
+  check(a.uvTriangles.empty() || a.uvTriangles.size() == mesh.triangles.size(),
+        name + ": " + std::to_string(a.uvTriangles.size()) + " texture-coordinate triangles for " +
+            std::to_string(mesh.triangles.size()) + " triangles");
+  check(a.normalTriangles.empty() || a.normalTriangles.size() == mesh.triangles.size(),
+        name + ": " + std::to_string(a.normalTriangles.size()) + " normal triangles for " +
+            std::to_string(mesh.triangles.size()) + " triangles");
+  checkIndices(a.uvTriangles, a.uvs.size(), name, "texture-coordinate", "texture coordinates");
+  checkIndices(a.normalTriangles, a.normals.size(), name, "normal", "normals");
+  for (const Vec2f& uv : a.uvs)
+    check(std::isfinite(uv[0]) && std::isfinite(uv[1]),
+          name + ": a texture coordinate is not finite");
+  for (const Vec3f& n : a.normals)
+    check(std::isfinite(n[0]) && std::isfinite(n[1]) && std::isfinite(n[2]),
+          name + ": a normal is not finite");
 }
 
 }  // namespace

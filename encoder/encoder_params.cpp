@@ -50,6 +50,28 @@ void EncoderParams::registerOptions(OptionTable& t) {
         "rotation); 0: the same triangles in Draco's order and rotation, which saves the "
         "triangle list's share of the VERTEX_ORDER units (vertices come out in the input's "
         "order either way)");
+  t.section("Attributes (texture coordinates and normals of the input meshes)");
+  t.add("TextureCoordinates", textureCoordinates,
+        "1: the input's texture coordinates (OBJ vt, PLY u/v, glTF TEXCOORD_0) are carried, "
+        "coded once per I mesh, exactly (they must not change within a GOM of P meshes); "
+        "0: dropped");
+  t.addEnum("Normals", normals,
+            {{"auto", NormalsChoice::kAuto},
+             {"coded", NormalsChoice::kCoded},
+             {"computed", NormalsChoice::kComputed},
+             {"none", NormalsChoice::kNone}},
+            "the input's normals (OBJ vn, PLY nx/ny/nz, glTF NORMAL): auto = coded exactly "
+            "once per I mesh when they are the same in every frame coded from it, else "
+            "computed; coded = always coded (an error when they change within a GOM of P "
+            "meshes); computed = the decoder computes per-vertex normals of every frame from "
+            "the decoded geometry; none = dropped");
+  t.add("UVQuantBits", uvQuantBits, 0, kMaxAttributeQuantBits,
+        "0: texture coordinates coded exactly (the float32 values as read); b > 0: rounded to "
+        "multiples of 2^-b (e.g. 12 for a 4096-texel texture), far fewer bytes; values must "
+        "stay below 2^(24-b)");
+  t.add("NormalQuantBits", normalQuantBits, 0, kMaxAttributeQuantBits,
+        "0: coded normals exactly (the float32 values as read); b > 0: components rounded to "
+        "multiples of 2^-b (not renormalised)");
   t.section("P meshes (PMeshMode d3dmc)");
   t.add("MotionQuantStep", motionQuantStep, 1, kMaxMotionQuantStep,
         "quantiser step of motion residuals in grid units (1 = lossless on the grid)");

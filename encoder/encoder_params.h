@@ -15,6 +15,12 @@ namespace tdvo {
 // bounding box over the sequence.
 enum class TextureBoxMode { kFull = 0, kBox = 1 };
 
+// What the stream carries of the input's normals (docs/user-guide.md, "Texture coordinates and
+// normals"): auto = coded once per I mesh when they are the same in every frame coded from it,
+// else computed; coded = always coded (an error when they change within a GOM of P meshes);
+// computed = the decoder computes per-vertex normals of every frame; none = dropped.
+enum class NormalsChoice { kAuto, kCoded, kComputed, kNone };
+
 struct EncoderParams {
   // Input
   std::string inputMeshPattern;
@@ -29,6 +35,14 @@ struct EncoderParams {
   PMeshMode pmeshMode = PMeshMode::kD3dmc;
   int dracoSpeed = 0;
   bool inputTriangleOrder = true;  // the decoder outputs the input's triangle list
+  // Attributes
+  bool textureCoordinates = true;  // carry the input's texture coordinates
+  NormalsChoice normals = NormalsChoice::kAuto;
+  int uvQuantBits = 0;  // 0: texture coordinates exactly, else multiples of 2^-bits
+  int normalQuantBits = 0;
+  // Not a cfg key: set by encodeSequence from the input (its first frame has texture
+  // coordinates or normals that the two keys above keep): the stream has ATTRIBUTES units.
+  bool attributesPresent = false;
   // P meshes
   int motionQuantStep = 1;
   double lambda = -1.0;  // < 0: automatic, see effectiveLambda()

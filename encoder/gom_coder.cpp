@@ -9,6 +9,7 @@
 #include "bitstream/syntax.h"
 #include "common/core/error.h"
 #include "decoder/gom_decoder.h"
+#include "encoder/attributes_encoder.h"
 #include "encoder/keyframe_selection.h"
 #include "encoder/pmesh_encoder.h"
 
@@ -51,17 +52,23 @@ class GomCoder : public GomUnits {
       // In a GOM of P meshes the first frame speaks for all (the others must have its triangles).
       countDegenerateTriangles(inputs_.size() - 1, inputs_.back());
     }
+    checkAttributes();
     if (pMeshes) {
       checkConstantConnectivity(inputs_);
-      for (size_t k = 1; k < count; ++k)
+      for (size_t k = 1; k < count; ++k) {
         std::vector<Triangle>().swap(inputs_[k].triangles);
+        inputs_[k].attributes = MeshAttributes();  // the first frame's speak for all
+      }
     }
 
     const size_t inputVertices = inputs_[0].positions.size();
-    // Continue the previous GOM's connectivity (no I mesh) when it is the same.
+    // Continue the previous GOM's connectivity (no I mesh) when it is the same, and so are the
+    // attributes the I mesh carries for all its frames.
     const bool continues = pMeshes && continuation_ && continuation_->iMesh &&
                            continuation_->inputVertices == inputVertices &&
-                           continuation_->inputTriangles == inputs_[0].triangles;
+                           continuation_->inputTriangles == inputs_[0].triangles &&
+                           continuation_->normalMode == normalMode_ &&
+                           continuation_->inputAttributes == spanAttributes(inputs_[0]);
 
     GomHeader gh;
     gh.gh_random_access = continues ? 0 : 1;
@@ -84,7 +91,7 @@ class GomCoder : public GomUnits {
     GomReference continued;
     if (continues) {
       out_.iMeshes.push_back(*continuation_->iMesh);
-      continued.mesh = {continuation_->last, continuation_->iMesh->decoded.triangles};
+      continued.mesh = {continuation_->last, continuation_->iMesh->decoded.triangles, {}};
     }
     decoder_.start(gh, params_.gridBits, "encoder's own GOM", continues ? &continued : nullptr);
     for (size_t k = 0; k < count; ++k) {
@@ -102,6 +109,9 @@ class GomCoder : public GomUnits {
                                   : std::make_shared<const IMeshEncoding>(out_.iMeshes.back());
       following.inputTriangles = std::move(inputs_[0].triangles);
       following.inputVertices = inputVertices;
+      following.inputAttributes =
+          continues ? continuation_->inputAttributes : spanAttributes(inputs_[0]);
+      following.normalMode = normalMode_;
       following.last = decoder_.reference();  // the last keyframe: the GOM's last frame
       *next_ = std::move(following);
     } else if (next_) {
@@ -201,7 +211,88 @@ class GomCoder : public GomUnits {
     vo.vo_triangle_order = i.triangleOrder ? 1 : 0;
     vo.vo_cabac_payload = i.orderPayload;
     out_.units.push_back({UnitType::kVertexOrder, serialise(std::move(vo))});
+    if (params_.attributesPresent) {
+      AttributesEncoding a = encodeAttributes(input, i, params_.textureCoordinates, normalMode_,
+                                              static_cast<uint32_t>(first_ + k), name(k),
+                                              params_.uvQuantBits, params_.normalQuantBits);
+      out_.units.push_back({UnitType::kAttributes, std::move(a.payload)});
+      i.attributes = std::move(a.decoded);
+    }
     out_.iMeshes.push_back(std::move(i));
+  }
+
+  // What of a frame's attributes must stay the same for the frames coded from its I mesh: its
+  // texture coordinates, and its normals when they are coded.
+  MeshAttributes spanAttributes(const IntMesh& frame) const {
+    MeshAttributes a = frame.attributes;
+    if (normalMode_ == NormalMode::kComputed) {
+      a.normals.clear();
+      a.normalTriangles.clear();
+    }
+    return a;
+  }
+
+  // The GOM's attributes (docs/user-guide.md, "Texture coordinates and normals"): those the
+  // cfg drops are dropped; the rest must be in the stream (its first frame decided) and, in a
+  // GOM of P meshes, the texture coordinates the same in every frame; the normals are coded
+  // when they are (or when Normals says so), else computed (normalMode_).
+  void checkAttributes() {
+    for (size_t k = 0; k < inputs_.size(); ++k) {
+      MeshAttributes& a = inputs_[k].attributes;
+      if (!params_.textureCoordinates) a.uvs.clear(), a.uvTriangles.clear();
+      if (params_.normals == NormalsChoice::kNone) a.normals.clear(), a.normalTriangles.clear();
+      check(params_.attributesPresent || a.empty(),
+            name(k) +
+                ": has texture coordinates or normals, but the sequence's first frame has "
+                "none, so the stream carries none (give the first frame them too, or set "
+                "TextureCoordinates 0 and Normals none)");
+    }
+    const MeshAttributes& first = inputs_[0].attributes;
+    const bool pMeshes = params_.pmeshMode != PMeshMode::kIntra;
+    bool normalsChange = false;
+    for (size_t k = 1; pMeshes && k < inputs_.size(); ++k) {
+      const MeshAttributes& a = inputs_[k].attributes;
+      check(a.uvs == first.uvs && a.uvTriangles == first.uvTriangles,
+            name(k) + ": texture coordinates differ from those of the GOM's first frame (" +
+                name(0) +
+                "); a GOM of P meshes carries its I mesh's texture coordinates for "
+                "every frame: use shorter GOMs (GOMSize, GOMListFile) or PMeshMode "
+                "intra");
+      check(a.hasNormals() == first.hasNormals(),
+            name(k) + (a.hasNormals() ? ": has normals" : ": has no normals") +
+                ", unlike the GOM's first frame (" + name(0) + ")");
+      normalsChange |= a.normals != first.normals || a.normalTriangles != first.normalTriangles;
+    }
+    const NormalsChoice choice = params_.normals;
+    if (!pMeshes) {
+      // Every frame is an I mesh: its own normals, coded exactly unless Normals computed.
+      bool any = false;
+      for (const IntMesh& m : inputs_)
+        any |= m.attributes.hasNormals();
+      normalMode_ = !any                                 ? NormalMode::kNone
+                    : choice == NormalsChoice::kComputed ? NormalMode::kComputed
+                                                         : NormalMode::kPerVertex;
+      out_.normals = !any ? "none in the input"
+                     : normalMode_ == NormalMode::kComputed
+                         ? "computed by the decoder from each decoded frame"
+                         : "coded exactly in every frame";
+      return;
+    }
+    if (!first.hasNormals()) {
+      normalMode_ = NormalMode::kNone;
+      out_.normals = "none in the input";
+      return;
+    }
+    check(!(normalsChange && choice == NormalsChoice::kCoded),
+          name(0) + " .. " + name(inputs_.size() - 1) +
+              ": normals change within the GOM, and Normals coded carries the I mesh's for "
+              "every frame: set Normals auto or computed, or use PMeshMode intra");
+    const bool computed =
+        choice == NormalsChoice::kComputed || (choice == NormalsChoice::kAuto && normalsChange);
+    normalMode_ = computed ? NormalMode::kComputed : NormalMode::kPerVertex;  // or per corner
+    out_.normals = computed ? "computed by the decoder from each decoded frame" +
+                                  std::string(normalsChange ? " (they change within the GOM)" : "")
+                            : "coded exactly, once per I mesh";
   }
 
   // The next frame of the GOM is final; `input` (its quantised input positions) is not needed
@@ -218,7 +309,10 @@ class GomCoder : public GomUnits {
   const GomContinuation* continuation_;
   GomContinuation* next_;
   PMeshParams pmParams_;
-  std::vector<IntMesh> inputs_;     // the frames on the grid
+  std::vector<IntMesh> inputs_;  // the frames on the grid
+  // How the GOM's normals are carried: kNone, kComputed, or coded (kPerVertex stands for
+  // coded; encodeAttributes chooses per vertex or per corner).
+  NormalMode normalMode_ = NormalMode::kNone;
   GomDecoder decoder_;              // makes the GOM's frames from the units coded here
   std::vector<Vec3i> target_;       // a keyframe's input in the GOM's vertex order
   std::vector<uint8_t> payload_;    // the last P mesh's payload, while the decoder reads it

@@ -34,6 +34,7 @@ struct GomGeometry {
   std::vector<IMeshEncoding> iMeshes;  // one per I mesh of the GOM
   std::vector<Frame> frames;           // the GOM's frames in order
   std::vector<std::string> warnings;   // for stderr, in the order a sequential run meets them
+  std::string normals;                 // how the GOM's normals are carried, for the summary
 };
 
 // What a GOM of P meshes leaves for the next GOM, which may continue its connectivity instead
@@ -42,7 +43,9 @@ struct GomContinuation {
   std::shared_ptr<const IMeshEncoding> iMesh;  // the connectivity and vertex order in use
   std::vector<Triangle> inputTriangles;        // the input connectivity it was made from
   size_t inputVertices = 0;
-  std::vector<Vec3i> last;  // the GOM's last reconstructed frame (coding order)
+  MeshAttributes inputAttributes;  // the input attributes it was made from (normals: if coded)
+  NormalMode normalMode = NormalMode::kNone;  // how its normals are carried (gom_coder.cpp)
+  std::vector<Vec3i> last;                    // the GOM's last reconstructed frame (coding order)
 };
 
 // Codes frames first .. first + frames.size() - 1 of a sequence as one GOM (`frames` are the

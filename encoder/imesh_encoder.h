@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "bitstream/attributes_syntax.h"
 #include "bitstream/order_syntax.h"
 #include "common/core/mesh.h"
 
@@ -39,6 +40,7 @@ struct IMeshEncoding {
   bool triangleOrder = true;          // vo_triangle_order
   size_t keptDegenerate = 0;          // input triangles with a repeated vertex, in the output
   size_t droppedDegenerate = 0;       // those that could not be (a vertex Draco dropped)
+  DecodedAttributes attributes;       // the ATTRIBUTES unit's (set by the GOM coder)
 };
 
 // Encodes `mesh` (grid integers, coordinates < 2^gridBits) losslessly. `dracoSpeed` is Draco's

@@ -176,11 +176,12 @@ int main(int argc, char** argv) {
     std::printf("frames              : %zu\n", source.count);
     std::printf("stream              : %s\n", params.bitstreamFile.c_str());
     std::printf(
-        "bytes               : %zu (headers %llu, I meshes %llu, vertex orders %llu, P meshes "
-        "%llu, textures %llu)\n",
+        "bytes               : %zu (headers %llu, I meshes %llu, vertex orders %llu, "
+        "attributes %llu, P meshes %llu, textures %llu)\n",
         coded.stream.size(), static_cast<unsigned long long>(coded.headerBytes),
         static_cast<unsigned long long>(coded.iMeshBytes),
         static_cast<unsigned long long>(coded.orderBytes),
+        static_cast<unsigned long long>(coded.attributeBytes),
         static_cast<unsigned long long>(coded.pMeshBytes),
         static_cast<unsigned long long>(coded.textureBytes));
     const double geometryBits = 8.0 * (coded.stream.size() - coded.textureBytes);

@@ -33,6 +33,13 @@ class GomWriter {
     gomDecoded_.clear();
     for (const std::string& warning : gom.warnings)
       std::fprintf(stderr, "3dvo-enc: warning: %s\n", warning.c_str());
+    // How normals are carried, said when it changes (the first time, and from the GOM on that
+    // changes it).
+    if (attributesPresent_ && gom.normals != normals_) {
+      std::fprintf(stderr, "3dvo-enc: normals from frame %lld on: %s\n",
+                   static_cast<long long>(first) + firstFrame_, gom.normals.c_str());
+      normals_ = gom.normals;
+    }
     for (const GomGeometry::Unit& unit : gom.units)
       units_.write(unit.type, unit.payload);
     for (size_t k = 0; k < gom.frames.size(); ++k)
@@ -63,6 +70,7 @@ class GomWriter {
     IntMesh output;
     applyVertexOrder(i.order, f.positions, output.positions);
     output.triangles = i.order.triangles;
+    applyAttributes(i.attributes, output);
     gomDecoded_.push_back(std::move(output));
     onFrame_(static_cast<int>(frame), gomDecoded_.back());
     if (!textures_) gomDecoded_.clear();  // kept only for the GOM's textures
@@ -76,6 +84,13 @@ class GomWriter {
   UnitWriter& units_;
   EncodedSequence& out_;
   bool keepInputIndex_;
+
+ public:
+  bool attributesPresent_ = false;
+  int firstFrame_ = 0;  // the input's frame number of stream frame 0 (for messages)
+
+ private:
+  std::string normals_;  // the last normals line printed
 };
 
 FrameSource sourceOf(const std::vector<Mesh>& frames, const std::vector<std::string>& names) {
@@ -138,13 +153,20 @@ EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
                         true);
 }
 
-EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
+EncodedSequence encodeSequence(const EncoderParams& inParams, const Grid& grid,
                                const FrameSource& source, const FrameCallback& onFrame,
                                TextureEncoder* textures, const TextureCallback& onTexture,
                                bool keepInputIndex) {
   check(source.count > 0, "no frames to encode");
   check(source.count <= kMaxFrames, "too many frames");
-  check(grid.bits == params.gridBits, "grid and GridBits disagree");
+  check(grid.bits == inParams.gridBits, "grid and GridBits disagree");
+  // The stream has ATTRIBUTES units when the first frame has attributes the cfg keeps.
+  EncoderParams params = inParams;
+  {
+    const MeshAttributes first = source.read(0).attributes;
+    params.attributesPresent = (params.textureCoordinates && first.hasUvs()) ||
+                               (params.normals != NormalsChoice::kNone && first.hasNormals());
+  }
   EncodedSequence out;
   UnitWriter units;
   SequenceHeader sh;
@@ -157,6 +179,7 @@ EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
   for (int a = 0; a < 3; ++a)
     sh.sh_grid_origin[a] = grid.origin[a];
   sh.sh_grid_step = grid.step;
+  sh.sh_attributes_present = params.attributesPresent ? 1 : 0;
   if (textures) {
     // The dataset's fields the cameras do not code travel with them (docs/bitstream.md).
     sh.cameras = textures->cameras();
@@ -177,6 +200,8 @@ EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
     return source.name ? source.name(k) : "frame " + std::to_string(k);
   };
   GomWriter writer(grid, onFrame, textures, onTexture, units, out, keepInputIndex);
+  writer.attributesPresent_ = params.attributesPresent;
+  writer.firstFrame_ = params.firstFrame;
   // Runs of GOMs from one random access point to the next (RandomAccessPeriod; P-mesh modes
   // only) are coded one after the other in a task, as each GOM of a run may continue the
   // previous one's connectivity; runs are independent.
@@ -218,6 +243,7 @@ EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
   out.iMeshBytes = units.bytesOfType(UnitType::kIMesh);
   out.pMeshBytes = units.bytesOfType(UnitType::kPMesh);
   out.orderBytes = units.bytesOfType(UnitType::kVertexOrder);
+  out.attributeBytes = units.bytesOfType(UnitType::kAttributes);
   out.textureBytes = units.bytesOfType(UnitType::kTexture);
   out.stream = units.bytes();
   return out;

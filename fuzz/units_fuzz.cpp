@@ -3,7 +3,8 @@
 //
 // The input is a .3dvo stream. It is walked twice: as it is (so size, truncation and CRC checks
 // are exercised), then with repaired CRCs (fuzz_support.h), parsing every unit's payload with
-// the structure its unit_type names. Seeds: the conformance streams.
+// the structure its unit_type names. Seeds: the conformance streams (those with ATTRIBUTES
+// units among them; the stream target decodes their payloads).
 #include <cstdint>
 
 #include "bitstream/syntax.h"
@@ -43,6 +44,15 @@ void walk(const uint8_t* data, size_t size) {
           case tdvo::UnitType::kVertexOrder:
             parse<tdvo::VertexOrderUnit>(unit);
             break;
+          case tdvo::UnitType::kAttributes: {
+            // The value counts' bound comes from the I mesh: here the largest one can have.
+            tdvo::ByteReader reader(unit.payload, unit.size, unit.describe(), unit.payloadOffset);
+            tdvo::AttributesUnit at;
+            at.maxValues = 3 * tdvo::kMaxTriangles;
+            transfer(reader, at);
+            reader.expectEnd("the structure");
+            break;
+          }
           default:  // unknown to the container: the decoder rejects it by type
             break;
         }

@@ -282,6 +282,21 @@ TEST(EncoderApi, BadFramesAndKeysAreErrors) {
         << e.what();
   }
   bad = frames;
+  bad[0].attributes.uvs = {{0.5f, 0.5f}};
+  bad[0].attributes.uvTriangles.assign(bad[0].triangles.size(), Triangle{0, 0, 0});
+  EXPECT_NO_THROW(encoder.encode(bad));
+  bad[0].attributes.uvTriangles[3][1] = 1;
+  try {
+    encoder.encode(bad);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("frame 0: triangle 3: texture-coordinate index 1 out"),
+              std::string::npos)
+        << e.what();
+  }
+  bad[0].attributes.uvTriangles.pop_back();
+  EXPECT_THROW(encoder.encode(bad), Error);
+  bad = frames;
   bad[2].positions[7][1] = std::nan("");
   EXPECT_THROW(encoder.encode(bad), Error);
   encoder.set("FrameCount", "2");

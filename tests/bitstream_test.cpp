@@ -548,7 +548,8 @@ TEST(Syntax, SequenceHeaderRoundTrip) {
   sh.sh_grid_step = 0.000123;
   sh.sh_first_frame = 1000000000;
   const std::vector<uint8_t> bytes = write(sh);
-  EXPECT_EQ(bytes.size(), 2u + 4 + 4 + 8 + 1 + 3 * 8 + 8 + 2);  // ... + sh_num_cameras
+  // ... + sh_attributes_present + sh_num_cameras
+  EXPECT_EQ(bytes.size(), 2u + 4 + 4 + 8 + 1 + 3 * 8 + 8 + 1 + 2);
   EXPECT_EQ(bytes[0], kSyntaxVersion & 0xFF);
   EXPECT_EQ(bytes[18], 17);  // sh_grid_bits after version, first frame, frame count and rate
   const SequenceHeader back = read<SequenceHeader>(bytes);
@@ -627,8 +628,10 @@ std::vector<uint8_t> le64(double v) {
 TEST(Syntax, SequenceHeaderLimits) {
   const std::string at = "s.3dvo: unit 1, byte ";
   EXPECT_EQ(sequenceHeaderError(0, {1, 0}),
-            at + "102: sh_syntax_version 1 is not supported (this decoder reads version " +
+            at + "102: sh_syntax_version 1 is not supported (this decoder reads versions 2 to " +
                 std::to_string(kSyntaxVersion) + ")");
+  EXPECT_EQ(sequenceHeaderError(51, {2}),
+            at + "151: sh_attributes_present = 2 out of range [0, 1]");
   EXPECT_EQ(sequenceHeaderError(2, {0x01, 0xCA, 0x9A, 0x3B}),  // 10^9 + 1
             at + "102: sh_first_frame = 1000000001 out of range [0, 1000000000]");
   EXPECT_EQ(sequenceHeaderError(6, {0, 0, 0, 0}),
@@ -682,10 +685,11 @@ TEST(Syntax, SequenceHeaderTruncatedAtEveryLength) {
   const struct {
     const char* name;
     size_t start, size;
-  } layout[] = {
-      {"sh_syntax_version", 0, 2}, {"sh_first_frame", 2, 4},    {"sh_frame_count", 6, 4},
-      {"sh_frame_rate", 10, 8},    {"sh_grid_bits", 18, 1},     {"sh_grid_origin_x", 19, 8},
-      {"sh_grid_origin_y", 27, 8}, {"sh_grid_origin_z", 35, 8}, {"sh_grid_step", 43, 8}};
+  } layout[] = {{"sh_syntax_version", 0, 2}, {"sh_first_frame", 2, 4},
+                {"sh_frame_count", 6, 4},    {"sh_frame_rate", 10, 8},
+                {"sh_grid_bits", 18, 1},     {"sh_grid_origin_x", 19, 8},
+                {"sh_grid_origin_y", 27, 8}, {"sh_grid_origin_z", 35, 8},
+                {"sh_grid_step", 43, 8},     {"sh_attributes_present", 51, 1}};
   for (size_t length = 0; length < bytes.size(); ++length) {
     const std::vector<uint8_t> cut(bytes.begin(), bytes.begin() + length);
     const std::string message = errorOf([&] { read<SequenceHeader>(cut); });
@@ -698,6 +702,22 @@ TEST(Syntax, SequenceHeaderTruncatedAtEveryLength) {
         break;
       }
   }
+}
+
+// Version 2 headers are read too: they have no sh_attributes_present (read as 0) and
+// serialise again as version 2 (the header hash of a version 2 stream is unchanged).
+TEST(Syntax, Version2SequenceHeaderIsRead) {
+  SequenceHeader sh = validSequenceHeader();
+  sh.sh_attributes_present = 1;
+  const std::vector<uint8_t> v3 = write(sh);
+  sh.sh_syntax_version = 2;
+  const std::vector<uint8_t> v2 = write(sh);
+  ASSERT_EQ(v2.size() + 1, v3.size());
+  const SequenceHeader back = read<SequenceHeader>(v2);
+  EXPECT_EQ(back.sh_syntax_version, 2);
+  EXPECT_EQ(back.sh_attributes_present, 0);
+  EXPECT_EQ(write(back), v2);
+  EXPECT_EQ(read<SequenceHeader>(v3).sh_attributes_present, 1);
 }
 
 // The input dataset's fields travel with the cameras (issue 17.3): names, description, up.
@@ -736,7 +756,7 @@ TEST(Syntax, SequenceHeaderCarriesTheDatasetFields) {
   }
   // The reader checks the same: patch the bytes of a valid header.
   std::vector<uint8_t> bytes = write(sh);
-  const size_t nameAt = 53 + 2;  // the first camera's cam_name bytes
+  const size_t nameAt = 54 + 2;  // the first camera's cam_name bytes
   ASSERT_EQ(bytes[nameAt], 'l');
   bytes[nameAt] = 0xFF;
   const std::string badText = errorOf([&] { read<SequenceHeader>(bytes); });

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "bitstream/attributes_syntax.h"
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
 #include "common/core/error.h"
@@ -1020,6 +1021,138 @@ CATALOGUE_TEST(V11) {
   std::vector<Unit> units = baseUnits();
   units[3].payload = vertexOrderWithDegenerate({0}, {{41, 42, 41}});
   expectUnitsRow("V11", units);
+}
+
+// ---- Attributes ----
+
+// The base stream's frames with texture coordinates (per corner) and normals (the same in
+// every frame: coded once per I mesh): units SH, GH, I, VO, AT, P, P, GH, I, VO, AT, P, P.
+std::vector<Unit> attributeUnits() {
+  static const std::vector<uint8_t> stream = [] {
+    EncoderParams params;
+    params.gridBits = kGridBits;
+    params.gomSize = 3;
+    params.pmeshMode = PMeshMode::kD3dmc;
+    std::vector<Mesh> frames = test::wobblingSphere(1, kFrames);
+    test::addAttributes(frames, true, true);
+    return encodeSequence(params, gridForSequence(frames, kGridBits), frames, {},
+                          [](int, const IntMesh&) {})
+        .stream;
+  }();
+  std::vector<Unit> units = split(stream);
+  EXPECT_EQ(units.size(), 13u);
+  EXPECT_EQ(units[4].type, static_cast<uint8_t>(UnitType::kAttributes));
+  return units;
+}
+
+// Byte offsets in the ATTRIBUTES payload (per-corner texture coordinates, per-vertex normals).
+constexpr size_t kAtFrame = 0, kAtUvMode = 4, kAtNumUvs = 6, kAtNormalMode = 10, kAtPayload = 12;
+constexpr size_t kShAttributesPresent = kShStep + 8;
+
+CATALOGUE_TEST(A01) {
+  // The base stream (no ATTRIBUTES units) saying it has them.
+  std::vector<Unit> units = baseUnits();
+  units[0].payload[kShAttributesPresent] = 1;
+  expectUnitsRow("A01", units);
+}
+
+CATALOGUE_TEST(A02) {
+  std::vector<Unit> units = attributeUnits();
+  putU32(units[4].payload, kAtFrame, 4);
+  expectUnitsRow("A02", units);
+}
+
+CATALOGUE_TEST(A03) {
+  std::vector<Unit> units = attributeUnits();
+  units[4].payload[kAtUvMode] = 3;
+  expectUnitsRow("A03", units);
+}
+
+CATALOGUE_TEST(A04) {
+  // 80 triangles have 240 corners: more values than that would be values no corner uses, so a
+  // count is bounded by the I mesh, itself bounded by the stream's bytes.
+  std::vector<Unit> units = attributeUnits();
+  putU32(units[4].payload, kAtNumUvs, 241);
+  expectUnitsRow("A04", units);
+  putU32(units[4].payload, kAtNumUvs, 0xFFFFFFFF);
+  expectUnitsRow("A04", units);
+}
+
+CATALOGUE_TEST(A05) {
+  std::vector<Unit> units = attributeUnits();
+  units[4].payload[kAtNormalMode] = 4;
+  expectUnitsRow("A05", units);
+}
+
+CATALOGUE_TEST(A06) {
+  std::vector<Unit> units = attributeUnits();
+  units[4].payload.resize(kAtNumUvs + 2);
+  expectUnitsRow("A06", units);
+}
+
+CATALOGUE_TEST(A07) {
+  std::vector<Unit> units = attributeUnits();
+  units[4].payload.push_back(0);
+  units[4].payload.push_back(0);
+  expectUnitsRow("A07", units);
+}
+
+CATALOGUE_TEST(A08) {
+  // The payload cut to its first half.
+  std::vector<Unit> units = attributeUnits();
+  units[4].payload.resize(kAtPayload + (units[4].payload.size() - kAtPayload) / 2);
+  expectUnitsRow("A08", units);
+}
+
+CATALOGUE_TEST(A09) {
+  // Per-vertex texture coordinates (no indices first), the first value's key moved by
+  // +(2^32 - 1) from its prediction 0: past any float's bit pattern.
+  std::vector<Unit> units = attributeUnits();
+  ByteReader reader(units[4].payload.data(), units[4].payload.size(), "at", 0);
+  AttributesUnit at;
+  at.maxValues = 240;
+  transfer(reader, at);
+  at.at_uv_mode = static_cast<uint8_t>(UvMode::kPerVertex);
+  LaxWriterIo writer;
+  AttributeContexts ctx;
+  int64_t delta = 0xFFFFFFFFll;
+  order_detail::codeSigned(writer, "at_uv_delta", ctx.uv[0], delta, UINT32_MAX);
+  at.at_cabac_payload = writer.finish();
+  units[4].payload = serialise(at);
+  expectUnitsRow("A09", units);
+}
+
+CATALOGUE_TEST(A10) {
+  // The first corner's index (the indices come before the values) beyond the values.
+  std::vector<Unit> units = attributeUnits();
+  ByteReader reader(units[4].payload.data(), units[4].payload.size(), "at", 0);
+  AttributesUnit at;
+  at.maxValues = 240;
+  transfer(reader, at);
+  ASSERT_EQ(at.at_num_uvs, 69u);  // 42 vertices and 27 seam values
+  LaxWriterIo writer;
+  AttributeContexts ctx;
+  unsigned notNew = 0;
+  writer.bin("at_uv_new", ctx.uvNew, notNew);
+  uint32_t index = 100;  // within the binarisation's class of 68, beyond it
+  order_detail::codeUnsigned(writer, "at_uv_index", ctx.uvIndex, index, 68);
+  at.at_cabac_payload = writer.finish();
+  units[4].payload = serialise(at);
+  expectUnitsRow("A10", units);
+}
+
+// The ATTRIBUTES base stream itself decodes, with its attributes in every frame (the helper is
+// not the cause of A02-A10).
+TEST(Attributes, BaseStreamDecodes) {
+  const std::vector<uint8_t> stream = join(attributeUnits());
+  StreamDecoder decoder(stream.data(), stream.size(), "in.3dvo");
+  int frames = 0;
+  decoder.decode([&](int, const IntMesh& m) {
+    EXPECT_EQ(m.attributes.uvs.size(), 69u);
+    EXPECT_EQ(m.attributes.normals.size(), 42u);
+    ++frames;
+  });
+  EXPECT_EQ(frames, kFrames);
 }
 
 // A valid degenerate triangle decodes, in place (the helper above is not the cause of V09-V11).

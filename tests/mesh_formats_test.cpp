@@ -42,14 +42,7 @@ void expectClose(const Mesh& in, const Mesh& out, double tolerance, const std::s
   EXPECT_EQ(in.triangles, out.triangles) << what;
 }
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using test::errorOf;
 
 // ---- PLY ----
 
@@ -400,17 +393,6 @@ TEST(Gltf, LimitsAndMalformedFiles) {
 
 // ---- Through the apps ----
 
-double extentOf(const std::vector<Mesh>& frames) {
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (const Mesh& m : frames)
-    for (const Vec3d& p : m.positions)
-      for (int c = 0; c < 3; ++c) {
-        lo[c] = std::min(lo[c], p[c]);
-        hi[c] = std::max(hi[c], p[c]);
-      }
-  return std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
-}
-
 // Encodes `frames` written in `inFormat` and decodes them with --MeshFormat=`outFormat`; checks
 // every decoded frame against the input.
 void roundTrip(const std::vector<Mesh>& frames, const std::string& inExt,
@@ -432,7 +414,7 @@ void roundTrip(const std::vector<Mesh>& frames, const std::string& inExt,
       dir, kBin + "/3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--MeshFormat=" + outFormat});
   ASSERT_EQ(dec.exitCode, 0) << dec.err;
   // Half a grid step: the grid spans the extent with 2^bits - 1 steps at most.
-  const double tolerance = 0.5 * extentOf(frames) / ((1 << bits) - 1) * 1.0001 + 1e-6;
+  const double tolerance = 0.5 * test::extentOf(frames) / ((1 << bits) - 1) * 1.0001 + 1e-6;
   for (size_t f = 0; f < frames.size(); ++f) {
     const std::string path = dir.file("out/" + framePath("%04d", static_cast<int>(f)) + outExt);
     expectClose(frames[f], readMesh(path), tolerance, path);
@@ -459,14 +441,9 @@ std::vector<std::string> md5Lines(const std::string& out) {
 // A few frames of horse-gallop (shared data): OBJ -> 3DVO -> glTF and, through PLY input,
 // PLY -> 3DVO -> PLY.
 TEST(FormatsRoundTrip, SharedSequenceHorseGallop) {
-  const std::string pattern =
-      std::string(TDVO_SHARED_DATA_DIR) + "/meshseq/horse-gallop/%04d.obj.gz";
-  if (!std::filesystem::exists(framePath(pattern, 1)))
-    GTEST_SKIP() << "horse-gallop data not found (" << pattern
-                 << "); the generated-mesh round trips above still ran";
-  std::vector<Mesh> frames;
-  for (int f = 1; f <= 4; ++f)
-    frames.push_back(readObj(framePath(pattern, f)));
+  std::string missing;
+  std::vector<Mesh> frames = test::sharedHorseFrames(TDVO_SHARED_DATA_DIR, 1, 4, missing);
+  if (frames.empty()) GTEST_SKIP() << missing;
   roundTrip(frames, ".obj", "glb", ".glb", 14);
   roundTrip(frames, ".ply", "ply", ".ply", 14);
 }
@@ -539,7 +516,7 @@ TEST(FormatsApps, Md5LinesAndAnimationFile) {
   std::vector<Mesh> decoded;
   for (size_t f = 0; f < frames.size(); ++f)
     decoded.push_back(readObj(dir.file("objs/" + framePath("%04d.obj", static_cast<int>(f)))));
-  const double tolerance = 0.5 * extentOf(decoded) / ((1 << 12) - 1) * 1.0001 + 1e-6;
+  const double tolerance = 0.5 * test::extentOf(decoded) / ((1 << 12) - 1) * 1.0001 + 1e-6;
   for (size_t f = 0; f < frames.size(); ++f)
     expectClose(decoded[f],
                 readObj(dir.file("again/" + framePath("%04d.obj", static_cast<int>(f)))), tolerance,
@@ -558,7 +535,7 @@ TEST(FormatsApps, MorphTargetGlbAsEncoderInput) {
                  "--ReconMeshPattern=r%04d.obj", "-o", "x.3dvo"});
   ASSERT_EQ(enc.exitCode, 0) << enc.err;
   EXPECT_NE(enc.out.find("# input frames: 5 of the 7 keyframes"), std::string::npos) << enc.out;
-  const double tolerance = 0.5 * extentOf(frames) / ((1 << 14) - 1) * 1.0001 + 1e-5;
+  const double tolerance = 0.5 * test::extentOf(frames) / ((1 << 14) - 1) * 1.0001 + 1e-5;
   for (int f = 2; f < 7; ++f)
     expectClose(frames[f], readObj(dir.file(framePath("r%04d.obj", f))), tolerance,
                 "frame " + std::to_string(f));

@@ -22,6 +22,7 @@
 #include "common/core/sequence.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/sequence_encoder.h"
+#include "tests/stream_units.h"
 #include "tests/test_support.h"
 
 namespace tdvo {
@@ -93,15 +94,6 @@ void expectInputOrder(const std::vector<Mesh>& input, const Decoded& d) {
   }
 }
 
-size_t countUnits(const std::vector<uint8_t>& stream, UnitType type) {
-  UnitReader reader(stream.data(), stream.size(), "order.3dvo");
-  UnitView unit;
-  size_t count = 0;
-  while (reader.next(unit))
-    count += unit.type == static_cast<uint8_t>(type);
-  return count;
-}
-
 EncodedSequence encode(const std::vector<Mesh>& frames, PMeshMode mode, int gomSize, int period,
                        int gridBits = 12) {
   EncoderParams params;
@@ -133,8 +125,8 @@ TEST(InputOrder, ShuffledSphereComesBackInInputOrderInEveryMode) {
     const EncodedSequence coded = encode(frames, c.mode, 2, c.period);
     const Decoded d = decodeAll(coded.stream);
     expectInputOrder(frames, d);
-    EXPECT_EQ(countUnits(coded.stream, UnitType::kIMesh), c.iMeshes);
-    EXPECT_EQ(countUnits(coded.stream, UnitType::kVertexOrder), c.iMeshes);
+    EXPECT_EQ(test::countUnits(coded.stream, UnitType::kIMesh), c.iMeshes);
+    EXPECT_EQ(test::countUnits(coded.stream, UnitType::kVertexOrder), c.iMeshes);
     EXPECT_EQ(d.gomStarts, c.starts);  // the random access points
   }
 }
@@ -208,7 +200,7 @@ TEST(RandomAccess, ContinuingGomsAreSmallerAndRandomAccessPointsDecodeOnTheirOwn
   const EncodedSequence firstOnly = encode(frames, PMeshMode::kD3dmc, 3, 0);
   EXPECT_LT(everyTwo.stream.size(), everyGom.stream.size());
   EXPECT_LT(firstOnly.stream.size(), everyTwo.stream.size());
-  EXPECT_EQ(countUnits(firstOnly.stream, UnitType::kIMesh), 1u);  // of 4 GOMs
+  EXPECT_EQ(test::countUnits(firstOnly.stream, UnitType::kIMesh), 1u);  // of 4 GOMs
   EXPECT_LT(firstOnly.iMeshBytes + firstOnly.orderBytes,
             (everyGom.iMeshBytes + everyGom.orderBytes) / 2);
 
@@ -242,7 +234,7 @@ TEST(RandomAccess, ChangedConnectivityStartsARandomAccessPointAnyway) {
   const EncodedSequence coded = encode(frames, PMeshMode::kD3dmc, 2, 0);
   const Decoded d = decodeAll(coded.stream);
   expectInputOrder(frames, d);
-  EXPECT_EQ(countUnits(coded.stream, UnitType::kIMesh), 2u);
+  EXPECT_EQ(test::countUnits(coded.stream, UnitType::kIMesh), 2u);
   EXPECT_EQ(d.gomStarts, (std::vector<uint32_t>{0, 4}));
 }
 
@@ -286,7 +278,7 @@ TEST(RandomAccess, DecodingWorkLimitCountsContinuingGoms) {
   params.keyframeCount = 2;  // the first and last frame of each GOM
   const EncodedSequence coded = encodeSequence(params, gridForSequence(frames, params.gridBits),
                                                frames, {}, [](int, const IntMesh&) {});
-  ASSERT_EQ(countUnits(coded.stream, UnitType::kIMesh), 1u);
+  ASSERT_EQ(test::countUnits(coded.stream, UnitType::kIMesh), 1u);
   // Bytes through the I mesh and through the second GOM header.
   UnitReader reader(coded.stream.data(), coded.stream.size(), "order.3dvo");
   UnitView unit;
@@ -350,7 +342,7 @@ TEST(InputOrderData, HorseGallopThreeGoms) {
     const EncodedSequence coded = encode(frames, PMeshMode::kD3dmc, 16, period);
     const Decoded d = decodeAll(coded.stream);
     expectInputOrder(frames, d);
-    EXPECT_EQ(countUnits(coded.stream, UnitType::kIMesh), period == 1 ? 3u : 1u);
+    EXPECT_EQ(test::countUnits(coded.stream, UnitType::kIMesh), period == 1 ? 3u : 1u);
   }
 }
 

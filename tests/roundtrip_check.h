@@ -128,7 +128,8 @@ inline void checkRoundTrip(const std::vector<Mesh>& frames, const RoundTrip& r) 
     }
   }
   EXPECT_EQ(r.coded.vertexFrames, vertexFrames);
-  EXPECT_EQ(r.coded.headerBytes + r.coded.iMeshBytes + r.coded.orderBytes + r.coded.pMeshBytes,
+  EXPECT_EQ(r.coded.headerBytes + r.coded.iMeshBytes + r.coded.orderBytes + r.coded.attributeBytes +
+                r.coded.pMeshBytes,
             r.coded.stream.size());
 }
 

@@ -3,6 +3,7 @@
 // correct CRCs.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -31,6 +32,16 @@ inline std::vector<uint8_t> join(const std::vector<Unit>& units) {
   for (const Unit& u : units)
     writer.write(static_cast<UnitType>(u.type), u.payload);
   return writer.bytes();
+}
+
+// How many units of `type` a stream has.
+inline size_t countUnits(const std::vector<uint8_t>& stream, UnitType type) {
+  UnitReader reader(stream.data(), stream.size(), "count");
+  UnitView unit;
+  size_t count = 0;
+  while (reader.next(unit))
+    count += unit.type == static_cast<uint8_t>(type);
+  return count;
 }
 
 }  // namespace test

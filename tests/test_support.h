@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -24,7 +25,9 @@
 #include <utility>
 #include <vector>
 
+#include "common/core/error.h"
 #include "common/core/mesh.h"
+#include "common/core/obj_io.h"
 #include "tools/eval/sample_mesh.h"
 
 namespace tdvo {
@@ -172,6 +175,93 @@ inline std::vector<Mesh> wobblingSphere(int subdivisions, int frames, double rad
     out.push_back(std::move(m));
   }
   return out;
+}
+
+// Frames `first` .. `first` + `count` - 1 of horse-gallop from the shared data folder
+// `sharedDir` (TDVO_SHARED_DATA_DIR); empty, with `missing` set to a message for a skip, when
+// the data is not there.
+inline std::vector<Mesh> sharedHorseFrames(const std::string& sharedDir, int first, int count,
+                                           std::string& missing) {
+  const std::string pattern = sharedDir + "/meshseq/horse-gallop/%04d.obj.gz";
+  char name[4096];
+  std::snprintf(name, sizeof name, pattern.c_str(), first);
+  std::vector<Mesh> frames;
+  if (!std::filesystem::exists(name)) {
+    missing =
+        "horse-gallop data not found (" + pattern + "); the generated-mesh round trips still ran";
+    return frames;
+  }
+  for (int f = first; f < first + count; ++f) {
+    std::snprintf(name, sizeof name, pattern.c_str(), f);
+    frames.push_back(readObj(name));
+  }
+  return frames;
+}
+
+// What `f` throws as tdvo::Error, or "no error".
+inline std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+// The largest extent of the frames' bounding box over all axes.
+inline double extentOf(const std::vector<Mesh>& frames) {
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (const Mesh& m : frames)
+    for (const Vec3d& p : m.positions)
+      for (int c = 0; c < 3; ++c) {
+        lo[c] = std::min(lo[c], p[c]);
+        hi[c] = std::max(hi[c], p[c]);
+      }
+  return std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+}
+
+// Gives `frames` texture coordinates and normals (issue 19 point 6). Texture coordinates are
+// the same in every frame, made from the first frame's positions; with `perCorner` they are per
+// corner with seams (every third triangle's first corner has a value of its own, appended), else
+// per vertex. Normals are per vertex, each frame's own (area-weighted, as float), or with
+// `constantNormals` the first frame's in every frame.
+inline void addAttributes(std::vector<Mesh>& frames, bool perCorner, bool constantNormals = false) {
+  const Mesh& first = frames[0];
+  MeshAttributes uv;
+  for (const Vec3d& p : first.positions)
+    uv.uvs.push_back({static_cast<float>(0.5 + 0.5 * std::atan2(p[2], p[0]) / 3.14159265358979),
+                      static_cast<float>(p[1] * 0.37 + 0.25)});
+  uv.uvTriangles = first.triangles;
+  if (perCorner)
+    for (size_t t = 0; t < uv.uvTriangles.size(); t += 3) {
+      const Vec2f base = uv.uvs[uv.uvTriangles[t][0]];
+      uv.uvTriangles[t][0] = static_cast<uint32_t>(uv.uvs.size());
+      uv.uvs.push_back({base[0] + 0.125f, base[1] - 1.0f / 3});
+    }
+  auto normalsOf = [](const Mesh& m) {
+    std::vector<Vec3f> n(m.positions.size(), Vec3f{0, 0, 0});
+    for (const Triangle& t : m.triangles) {
+      const Vec3d &a = m.positions[t[0]], &b = m.positions[t[1]], &c = m.positions[t[2]];
+      const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+      const double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+      const double x[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                           u[0] * w[1] - u[1] * w[0]};
+      for (uint32_t v : t)
+        for (int k = 0; k < 3; ++k)
+          n[v][k] += static_cast<float>(x[k]);
+    }
+    for (Vec3f& v : n) {
+      const float l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      if (l > 0) v = {v[0] / l, v[1] / l, v[2] / l};
+    }
+    return n;
+  };
+  const std::vector<Vec3f> firstNormals = normalsOf(first);
+  for (Mesh& m : frames) {
+    m.attributes = uv;
+    m.attributes.normals = constantNormals ? firstNormals : normalsOf(m);
+    m.attributes.normalTriangles = m.triangles;
+  }
 }
 
 // An nx × ny sheet of vertices (2 (nx-1)(ny-1) triangles) in the x/y plane with a travelling

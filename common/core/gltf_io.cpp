@@ -15,6 +15,7 @@
 
 #include "common/core/error.h"
 #include "common/core/file_io.h"
+#include "common/core/mesh_attributes.h"
 #include "common/core/tiny_gltf_config.h"
 
 namespace tdvo {
@@ -234,6 +235,53 @@ struct GltfFile::Impl {
   std::vector<float> times;
   std::map<int, std::vector<float>> inputs;         // sampler input accessor -> key times
   std::map<int, int> weightsSampler, scaleSampler;  // node -> sampler of animation 0
+
+  // A primitive's TEXCOORD_0 (float, or normalized unsigned byte or short) for its `count`
+  // vertices, appended to `uvs`.
+  void readUvs(const tinygltf::Primitive& prim, size_t count, const std::string& what,
+               std::vector<Vec2f>& uvs) const {
+    const View t = view(prim.attributes.at("TEXCOORD_0"), what + " TEXCOORD_0");
+    if (t.components != 2 || t.count != count)
+      fail(what + " TEXCOORD_0: " + std::to_string(t.count) + " VEC" +
+           std::to_string(t.components) + " elements, expected " + std::to_string(count) + " VEC2");
+    for (size_t i = 0; i < count; ++i) {
+      const Vec2f uv{toFloat(t.get(i, 0)), toFloat(t.get(i, 1))};
+      if (!std::isfinite(uv[0]) || !std::isfinite(uv[1]))
+        fail(what + " TEXCOORD_0: element " + std::to_string(i) + " is not finite");
+      uvs.push_back(uv);
+    }
+  }
+
+  // A primitive's NORMAL (float VEC3) for its `count` vertices, with its morph targets' NORMAL
+  // displacements at `weights` (as the positions'), appended to `normals`.
+  void readNormals(const tinygltf::Primitive& prim, size_t count,
+                   const std::vector<double>& weights, const std::string& what,
+                   std::vector<Vec3f>& normals) const {
+    const View n = view(prim.attributes.at("NORMAL"), what + " NORMAL");
+    if (n.components != 3 || n.count != count)
+      fail(what + " NORMAL: " + std::to_string(n.count) + " VEC" + std::to_string(n.components) +
+           " elements, expected " + std::to_string(count) + " VEC3");
+    const size_t base = normals.size();
+    for (size_t i = 0; i < count; ++i)
+      normals.push_back({toFloat(n.get(i, 0)), toFloat(n.get(i, 1)), toFloat(n.get(i, 2))});
+    for (size_t j = 0; j < prim.targets.size(); ++j) {
+      const double w = j < weights.size() ? weights[j] : 0.0;
+      const auto tn = prim.targets[j].find("NORMAL");
+      if (w == 0 || tn == prim.targets[j].end()) continue;
+      const std::string twhat = what + " target " + std::to_string(j) + " NORMAL";
+      const View d = view(tn->second, twhat);
+      if (d.components != 3 || d.count != count)
+        fail(twhat + ": " + std::to_string(d.count) + " elements, the base has " +
+             std::to_string(count));
+      for (size_t i = 0; i < count; ++i)
+        for (size_t c = 0; c < 3; ++c)
+          normals[base + i][c] = toFloat(normals[base + i][c] + w * d.get(i, c));
+    }
+    for (size_t i = base; i < normals.size(); ++i)
+      for (float c : normals[i])
+        if (!std::isfinite(c))
+          fail(what + " NORMAL: element " + std::to_string(i - base) + " is not finite");
+  }
 
   [[noreturn]] void fail(const std::string& what) const { throw Error(name + ": " + what); }
 
@@ -457,6 +505,14 @@ struct GltfFile::Impl {
     Mesh mesh;
     mesh.positions.reserve(vertices);
     mesh.triangles.reserve(corners / 3);
+    // Texture coordinates (TEXCOORD_0) and normals (NORMAL) are the frame's when every primitive
+    // shown has them (docs/user-guide.md, "Texture coordinates and normals").
+    bool uvs = true, normals = true;
+    for (const Shown& s : shown)
+      for (const tinygltf::Primitive& prim : model.meshes[static_cast<size_t>(s.mesh)].primitives) {
+        uvs &= prim.attributes.count("TEXCOORD_0") > 0;
+        normals &= prim.attributes.count("NORMAL") > 0;
+      }
     for (const Shown& s : shown) {
       const tinygltf::Mesh& m = model.meshes[static_cast<size_t>(s.mesh)];
       for (size_t p = 0; p < m.primitives.size(); ++p) {
@@ -485,6 +541,8 @@ struct GltfFile::Impl {
           for (double c : mesh.positions[i])
             if (!std::isfinite(c) || std::fabs(c) > 1e300)
               fail(what + ": vertex " + std::to_string(i - base) + " is not finite");
+        if (uvs) readUvs(prim, v.count, what, mesh.attributes.uvs);
+        if (normals) readNormals(prim, v.count, s.weights, what, mesh.attributes.normals);
         if (prim.indices >= 0) {
           const View ix = view(prim.indices, what + " indices");
           if (ix.components != 1 || ix.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
@@ -516,6 +574,8 @@ struct GltfFile::Impl {
         }
       }
     }
+    if (uvs) mesh.attributes.uvTriangles = mesh.triangles;  // per vertex
+    if (normals) mesh.attributes.normalTriangles = mesh.triangles;
     const std::string frameName = animated ? "frame " + std::to_string(k) + ": " : "";
     if (mesh.positions.empty()) fail(frameName + "no vertices");
     if (mesh.triangles.empty()) fail(frameName + "no faces");
@@ -687,6 +747,14 @@ int addPositions(tinygltf::Model& model, const float* xyz, size_t vertices) {
                      hi);
 }
 
+// Float vectors of `components` values per vertex (TEXCOORD_0: 2, NORMAL: 3), no bounds.
+int addVectors(tinygltf::Model& model, const float* values, size_t vertices, int components) {
+  const int view =
+      addView(model, values, vertices * components * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
+  return addAccessor(model, view, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                     components == 2 ? TINYGLTF_TYPE_VEC2 : TINYGLTF_TYPE_VEC3, vertices);
+}
+
 int addIndices(tinygltf::Model& model, const std::vector<Triangle>& triangles) {
   std::vector<uint32_t> indices;
   indices.reserve(triangles.size() * 3);
@@ -738,12 +806,20 @@ std::vector<float> toFloats(const Mesh& mesh) {
 
 }  // namespace
 
-std::string formatGltf(const Mesh& mesh, GltfContainer container) {
+std::string formatGltf(const Mesh& input, GltfContainer container) {
   tinygltf::Model model = newModel();
+  // glTF attributes are per vertex: seams are split into appended vertex copies.
+  const Mesh mesh = splitAttributeSeams(input);
   const std::vector<float> xyz = toFloats(mesh);
   tinygltf::Primitive prim;
   prim.mode = TINYGLTF_MODE_TRIANGLES;
   prim.attributes["POSITION"] = addPositions(model, xyz.data(), mesh.positions.size());
+  if (mesh.attributes.hasUvs())
+    prim.attributes["TEXCOORD_0"] =
+        addVectors(model, mesh.attributes.uvs[0].data(), mesh.positions.size(), 2);
+  if (mesh.attributes.hasNormals())
+    prim.attributes["NORMAL"] =
+        addVectors(model, mesh.attributes.normals[0].data(), mesh.positions.size(), 3);
   prim.indices = addIndices(model, mesh.triangles);
   tinygltf::Mesh m;
   m.primitives.push_back(prim);
@@ -762,19 +838,25 @@ void writeGltf(const std::string& path, const Mesh& mesh, GltfContainer containe
 GltfAnimationWriter::GltfAnimationWriter(double frameRate) : frameRate_(frameRate) {}
 GltfAnimationWriter::~GltfAnimationWriter() = default;
 
-void GltfAnimationWriter::add(const Mesh& frame) {
+void GltfAnimationWriter::add(const Mesh& input) {
+  const Mesh frame = splitAttributeSeams(input);  // per-vertex attributes, as formatGltf
   const size_t inRun = runs_.empty() ? 0 : frames_ - runs_.back().first;
+  const bool normals = frame.attributes.hasNormals();
   if (runs_.empty() || inRun == kMaxGltfRunFrames ||
       runs_.back().vertices != frame.positions.size() ||
-      runs_.back().triangles != frame.triangles) {
+      runs_.back().triangles != frame.triangles || runs_.back().uvs != frame.attributes.uvs ||
+      runs_.back().normals.empty() == normals) {
     Run run;
     run.first = frames_;
     run.vertices = frame.positions.size();
     run.triangles = frame.triangles;
+    run.uvs = frame.attributes.uvs;
     runs_.push_back(std::move(run));
   }
   const std::vector<float> xyz = toFloats(frame);
   runs_.back().positions.insert(runs_.back().positions.end(), xyz.begin(), xyz.end());
+  for (const Vec3f& n : frame.attributes.normals)
+    runs_.back().normals.insert(runs_.back().normals.end(), n.begin(), n.end());
   ++frames_;
 }
 
@@ -789,13 +871,28 @@ std::string GltfAnimationWriter::finish() {
     tinygltf::Primitive prim;
     prim.mode = TINYGLTF_MODE_TRIANGLES;
     prim.attributes["POSITION"] = addPositions(model, run.positions.data(), run.vertices);
+    if (!run.uvs.empty())
+      prim.attributes["TEXCOORD_0"] = addVectors(model, run.uvs[0].data(), run.vertices, 2);
+    if (!run.normals.empty())
+      prim.attributes["NORMAL"] = addVectors(model, run.normals.data(), run.vertices, 3);
     prim.indices = addIndices(model, run.triangles);
-    // Target j - 1 moves the base (frame 0 of the run) to frame j.
+    // Target j - 1 moves the base (frame 0 of the run) to frame j (and turns its normals into
+    // frame j's, when they differ).
     std::vector<float> delta(run.vertices * 3);
     for (size_t j = 1; j < n; ++j) {
       for (size_t i = 0; i < delta.size(); ++i)
         delta[i] = run.positions[j * delta.size() + i] - run.positions[i];
-      prim.targets.push_back({{"POSITION", addPositions(model, delta.data(), run.vertices)}});
+      std::map<std::string, int> target{
+          {"POSITION", addPositions(model, delta.data(), run.vertices)}};
+      if (!run.normals.empty()) {
+        bool same = true;
+        for (size_t i = 0; i < delta.size(); ++i) {
+          delta[i] = run.normals[j * delta.size() + i] - run.normals[i];
+          same &= delta[i] == 0;
+        }
+        if (!same) target["NORMAL"] = addVectors(model, delta.data(), run.vertices, 3);
+      }
+      prim.targets.push_back(std::move(target));
     }
     tinygltf::Mesh mesh;
     mesh.name = "frames " + std::to_string(run.first) + "-" + std::to_string(run.first + n - 1);

@@ -1,5 +1,6 @@
-// glTF 2.0 reading and writing (.gltf with external or data-URI buffers, and .glb), positions
-// and triangles only, through tinygltf (Debian's libtinygltf-dev; never a parser of our own).
+// glTF 2.0 reading and writing (.gltf with external or data-URI buffers, and .glb), positions,
+// triangles, texture coordinates (TEXCOORD_0) and normals (NORMAL), through tinygltf (Debian's
+// libtinygltf-dev; never a parser of our own).
 //
 // A file is read as a sequence of frames (docs/user-guide.md, "Mesh files"):
 // - the frames are the keyframe times of the file's first animation (all its channels' input
@@ -9,7 +10,9 @@
 //   mesh's morph targets applied with the node's weights at that time (animated by the
 //   animation's "weights" channel: STEP, LINEAR or CUBICSPLINE; else the node's or the mesh's
 //   weights). Positions are the mesh's own coordinates: node transforms other than this
-//   visibility are not applied. A file without nodes is its meshes, in order.
+//   visibility are not applied. TEXCOORD_0 and NORMAL become the frame's per-vertex attributes
+//   (mesh.h) when every primitive shown has them (normals with the morph targets' NORMAL
+//   displacements applied likewise). A file without nodes is its meshes, in order.
 // So a base mesh with one morph target per frame and a STEP weights animation is a sequence,
 // and so is what writeGltfAnimation writes.
 #pragma once
@@ -73,7 +76,9 @@ Mesh readGltf(const std::string& path);
 enum class GltfContainer { kGltf, kGlb };
 
 // One mesh as glTF: a .gltf with its buffer as a data URI, or a .glb. Positions are stored as
-// float (glTF's POSITION type), indices as unsigned int, in the mesh's order.
+// float (glTF's POSITION type), indices as unsigned int, in the mesh's order; texture
+// coordinates and normals, when present, as float TEXCOORD_0 and NORMAL, made per vertex by
+// splitAttributeSeams (mesh_attributes.h: vertex copies at seams follow the original vertices).
 std::string formatGltf(const Mesh& mesh, GltfContainer container);
 void writeGltf(const std::string& path, const Mesh& mesh, GltfContainer container);
 
@@ -82,7 +87,9 @@ void writeGltf(const std::string& path, const Mesh& mesh, GltfContainer containe
 // kMaxGltfRunFrames frames; each run is a node with one mesh whose base is the run's first
 // frame and whose morph targets are the other frames' displacements, shown by a STEP weights
 // animation (one target at weight 1 per frame) and by a STEP scale animation that shows the
-// node during its run only (scale 0 elsewhere). Frame k is at time k / frameRate.
+// node during its run only (scale 0 elsewhere). Texture coordinates are the run's (a frame with
+// other ones starts a new run); normals are the base's, and each target carries the NORMAL
+// displacement to its frame's normals when they differ. Frame k is at time k / frameRate.
 class GltfAnimationWriter {
  public:
   explicit GltfAnimationWriter(double frameRate);
@@ -97,6 +104,8 @@ class GltfAnimationWriter {
     size_t vertices = 0;
     std::vector<Triangle> triangles;
     std::vector<float> positions;  // frames x vertices x 3
+    std::vector<Vec2f> uvs;        // the run's texture coordinates (vertices), if any
+    std::vector<float> normals;    // frames x vertices x 3, if any
   };
   double frameRate_;
   size_t frames_ = 0;

@@ -51,6 +51,7 @@ IntMesh Grid::quantise(const Mesh& mesh) const {
   for (const Vec3d& p : mesh.positions)
     out.positions.push_back(quantise(p));
   out.triangles = mesh.triangles;
+  out.attributes = mesh.attributes;
   return out;
 }
 
@@ -60,6 +61,7 @@ Mesh Grid::dequantise(const IntMesh& mesh) const {
   for (const Vec3i& q : mesh.positions)
     out.positions.push_back(dequantise(q));
   out.triangles = mesh.triangles;
+  out.attributes = mesh.attributes;
   return out;
 }
 

@@ -2,6 +2,8 @@
 
 #include <md5.h>
 
+#include <cstring>
+
 namespace tdvo {
 
 Md5::Md5() : context_(new MD5_CTX) {
@@ -60,6 +62,27 @@ Md5Digest geometryDigest(const IntMesh& mesh) {
   for (const Triangle& t : mesh.triangles)
     for (uint32_t v : t)
       put(v);
+  // Texture coordinates and normals, when the frame has any (docs/bitstream.md section 8):
+  // each as its value count, the values' float32 bit patterns, and (when there are values)
+  // the index triangles. A frame without them hashes as before.
+  const MeshAttributes& a = mesh.attributes;
+  auto putAttribute = [&](const auto& values, const std::vector<Triangle>& indices) {
+    put(static_cast<uint32_t>(values.size()));
+    for (const auto& value : values)
+      for (float f : value) {
+        uint32_t bits;
+        std::memcpy(&bits, &f, 4);
+        put(bits);
+      }
+    if (values.empty()) return;
+    for (const Triangle& t : indices)
+      for (uint32_t v : t)
+        put(v);
+  };
+  if (!a.empty()) {
+    putAttribute(a.uvs, a.uvTriangles);
+    putAttribute(a.normals, a.normalTriangles);
+  }
   md5.update(buffer, used);
   return md5.finish();
 }

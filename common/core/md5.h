@@ -31,7 +31,9 @@ std::string toHex(const Md5Digest& digest);
 
 // The geometry digest of one decoded frame. Byte layout (docs/bitstream.md, "Frame hashes"):
 // vertex count (u32 LE), triangle count (u32 LE), then per vertex x y z as int32 LE, then per
-// triangle its three vertex indices as u32 LE.
+// triangle its three vertex indices as u32 LE; then, only when the frame has texture
+// coordinates or normals, for each of the two: its value count (u32 LE), every value's float32
+// bit pattern (u32 LE), and when the count is not 0 its index triangles (u32 LE).
 Md5Digest geometryDigest(const IntMesh& mesh);
 
 // "MD5 frame=<n> geometry=<32 hex digits>", the line encoder and decoder print per frame.

@@ -16,16 +16,44 @@ using Vec3i = std::array<int32_t, 3>;
 // Vertex indices of one triangle, counter-clockwise seen from outside.
 using Triangle = std::array<uint32_t, 3>;
 
+using Vec2f = std::array<float, 2>;
+using Vec3f = std::array<float, 3>;
+
+// Texture coordinates and normals of a mesh, each a list of values and one index triangle per
+// triangle of the mesh (corner c of triangle t takes uvs[uvTriangles[t][c]]), as OBJ's
+// `f v/vt/vn` gives them. Per-vertex attributes (PLY, glTF) have index triangles equal to the
+// mesh's triangles. Empty lists: the attribute is absent. Values are float32 as read (glTF's
+// type; OBJ and PLY values are rounded to float once, on reading), so they survive the codec
+// bit for bit (docs/user-guide.md, "Texture coordinates and normals").
+struct MeshAttributes {
+  std::vector<Vec2f> uvs;
+  std::vector<Triangle> uvTriangles;
+  std::vector<Vec3f> normals;
+  std::vector<Triangle> normalTriangles;
+
+  bool hasUvs() const { return !uvs.empty(); }
+  bool hasNormals() const { return !normals.empty(); }
+  bool empty() const { return !hasUvs() && !hasNormals(); }
+  bool operator==(const MeshAttributes& o) const {
+    return uvs == o.uvs && uvTriangles == o.uvTriangles && normals == o.normals &&
+           normalTriangles == o.normalTriangles;
+  }
+  bool operator!=(const MeshAttributes& o) const { return !(*this == o); }
+};
+
 // A triangle mesh with float positions.
 struct Mesh {
   std::vector<Vec3d> positions;
   std::vector<Triangle> triangles;
+  MeshAttributes attributes;  // optional UVs and normals
 };
 
-// A triangle mesh with integer positions on the grid.
+// A triangle mesh with integer positions on the grid (and the attributes of the frame it was
+// made from or decoded for: they are not on the grid).
 struct IntMesh {
   std::vector<Vec3i> positions;
   std::vector<Triangle> triangles;
+  MeshAttributes attributes;
 };
 
 }  // namespace tdvo

@@ -1,6 +1,7 @@
 #include "common/core/obj_io.h"
 
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <string_view>
 
@@ -52,6 +53,9 @@ class ObjParser {
       fail("vertex index " + std::to_string(maxIndex_ + 1ull) + " out of range (the file has " +
            std::to_string(mesh_.positions.size()) + " vertices)");
     }
+    MeshAttributes& at = mesh_.attributes;
+    if (!finishAttribute(uv_, at.uvs.size(), at.uvTriangles)) at.uvs.clear();
+    if (!finishAttribute(normal_, at.normals.size(), at.normalTriangles)) at.normals.clear();
     if (mesh_.positions.empty()) throw Error(name_ + ": no vertices");
     if (mesh_.triangles.empty()) throw Error(name_ + ": no faces");
     // Triangles with a repeated vertex are kept here (the encoder drops them, with a warning),
@@ -64,6 +68,17 @@ class ObjParser {
   }
 
  private:
+  // A face attribute (texture coordinates or normals): its corner indices.
+  struct Attribute {
+    explicit Attribute(const char* name) : what(name) {}
+    const char* what;
+    int state = 0;  // 0: no face yet, 1: every corner gives it, 2: none does, 3: some do
+    uint32_t maxIndex = 0;
+    size_t maxIndexLine = 0;
+    std::vector<uint32_t> corners;    // of the current face
+    std::vector<Triangle> triangles;  // one per triangle
+  };
+
   void appendPending(std::string_view piece) {
     if (piece.size() > kMaxObjLineBytes - pending_.size()) {
       ++lineNumber_;
@@ -88,21 +103,49 @@ class ObjParser {
         fail("more than " + std::to_string(kMaxObjVertices) + " vertices");
       // Extra values (w, or per-vertex colours) are allowed and ignored.
       mesh_.positions.push_back({number(tokens[1]), number(tokens[2]), number(tokens[3])});
+    } else if (keyword == "vt") {
+      // u and v; a third coordinate (w) is allowed and ignored.
+      if (tokens.size() < 3) fail("texture coordinate needs two values");
+      if (mesh_.attributes.uvs.size() >= kMaxObjVertices)
+        fail("more than " + std::to_string(kMaxObjVertices) + " texture coordinates");
+      mesh_.attributes.uvs.push_back({floatNumber(tokens[1]), floatNumber(tokens[2])});
+    } else if (keyword == "vn") {
+      if (tokens.size() < 4) fail("normal needs three values");
+      if (mesh_.attributes.normals.size() >= kMaxObjVertices)
+        fail("more than " + std::to_string(kMaxObjVertices) + " normals");
+      mesh_.attributes.normals.push_back(
+          {floatNumber(tokens[1]), floatNumber(tokens[2]), floatNumber(tokens[3])});
     } else if (keyword == "f") {
       if (tokens.size() < 4) fail("face needs at least three corners");
       if (mesh_.triangles.size() + (tokens.size() - 3) > kMaxObjTriangles)
         fail("more than " + std::to_string(kMaxObjTriangles) + " triangles");
       corners_.clear();
-      for (size_t i = 1; i < tokens.size(); ++i)
+      uv_.corners.clear();
+      normal_.corners.clear();
+      for (size_t i = 1; i < tokens.size(); ++i) {
         corners_.push_back(index(tokens[i]));
+        // v, v/vt, v//vn or v/vt/vn: every face of a file gives the same parts.
+        const size_t slash = tokens[i].find('/');
+        std::string_view rest =
+            slash == std::string_view::npos ? std::string_view() : tokens[i].substr(slash + 1);
+        const size_t slash2 = rest.find('/');
+        const std::string_view vt = rest.substr(0, slash2);
+        const std::string_view vn =
+            slash2 == std::string_view::npos ? std::string_view() : rest.substr(slash2 + 1);
+        attributeIndex(uv_, vt, tokens[i], mesh_.attributes.uvs.size());
+        attributeIndex(normal_, vn, tokens[i], mesh_.attributes.normals.size());
+      }
       if (firstFaceLine_ == 0) firstFaceLine_ = lineNumber_;
       for (size_t i = 1; i + 1 < corners_.size(); ++i) {
         mesh_.triangles.push_back({corners_[0], corners_[i], corners_[i + 1]});
         properTriangles_ += corners_[0] != corners_[i] && corners_[i] != corners_[i + 1] &&
                             corners_[0] != corners_[i + 1];
+        for (Attribute* a : {&uv_, &normal_})
+          if (a->state == 1)
+            a->triangles.push_back({a->corners[0], a->corners[i], a->corners[i + 1]});
       }
-    } else if (keyword == "vt" || keyword == "vn" || keyword == "vp" || keyword == "o" ||
-               keyword == "g" || keyword == "s" || keyword == "mtllib" || keyword == "usemtl") {
+    } else if (keyword == "vp" || keyword == "o" || keyword == "g" || keyword == "s" ||
+               keyword == "mtllib" || keyword == "usemtl") {
       // Not geometry 3DVO codes.
     } else {
       fail("unsupported statement '" + std::string(keyword) + "'");
@@ -121,6 +164,56 @@ class ObjParser {
     if (!(value == value) || value > 1e300 || value < -1e300)
       fail("non-finite number '" + std::string(token) + "'");
     return value;
+  }
+
+  float floatNumber(std::string_view token) const {
+    float value = 0;
+    auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    if (ec != std::errc() || ptr != token.data() + token.size())
+      fail("bad number '" + std::string(token) + "'");
+    if (!std::isfinite(value)) fail("non-finite number '" + std::string(token) + "'");
+    return value;
+  }
+
+  // The texture-coordinate or normal index `part` of face corner `token` (empty: none), with
+  // `count` values read so far. A file's faces either all give the attribute or none does.
+  void attributeIndex(Attribute& a, std::string_view part, std::string_view token, size_t count) {
+    const bool given = !part.empty();
+    if (a.state == 0) a.state = given ? 1 : 2;
+    if (a.state != 3 && given != (a.state == 1)) {
+      a.state = 3;  // some corners give it, some do not: the mesh cannot have it
+      a.corners.clear();
+      std::vector<Triangle>().swap(a.triangles);
+    }
+    if (!given) return;
+    long long value = 0;
+    auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), value);
+    if (ec != std::errc() || ptr != part.data() + part.size() || value == 0)
+      fail(std::string("bad ") + a.what + " index in '" + std::string(token) + "'");
+    if (value < 0) value += static_cast<long long>(count) + 1;
+    if (value < 1 || value > 0xFFFFFFFFLL)
+      fail(std::string(a.what) + " index in '" + std::string(token) + "' out of range");
+    if (a.state != 1) return;
+    const uint32_t result = static_cast<uint32_t>(value - 1);
+    if (result > a.maxIndex || a.maxIndexLine == 0) {
+      a.maxIndex = result;
+      a.maxIndexLine = lineNumber_;
+    }
+    a.corners.push_back(result);
+  }
+
+  // The index triangles of an attribute, checked against its `count` values (which may come
+  // later in the file); false when not every face corner gives it, or the file has no values
+  // for it (what there is of it is then dropped: a mesh has it at every corner or not at all).
+  bool finishAttribute(Attribute& a, size_t count, std::vector<Triangle>& triangles) {
+    if (a.state != 1 || count == 0) return false;
+    if (a.maxIndex >= count) {
+      lineNumber_ = a.maxIndexLine;
+      fail(std::string(a.what) + " index " + std::to_string(a.maxIndex + 1ull) +
+           " out of range (the file has " + std::to_string(count) + " " + a.what + "s)");
+    }
+    triangles = std::move(a.triangles);
+    return true;
   }
 
   uint32_t index(std::string_view token) {
@@ -147,16 +240,30 @@ class ObjParser {
   size_t maxIndexLine_ = 0;  // the line where it first appeared
   size_t firstFaceLine_ = 0;
   size_t properTriangles_ = 0;  // triangles with three different vertices
+  Attribute uv_ = Attribute("texture coordinate");
+  Attribute normal_ = Attribute("normal");
   Mesh mesh_;
   std::string pending_;  // the unfinished last line of the text fed so far
   std::vector<std::string_view> tokens_;
   std::vector<uint32_t> corners_;
 };
 
-void appendNumber(std::string& out, double value) {
+template <class T>
+void appendNumber(std::string& out, T value) {
   char buffer[32];
   auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
   out.append(buffer, result.ptr);
+}
+
+// "keyword x y ...\n", each number in its shortest exact form.
+template <class Values>
+void appendLine(std::string& out, const char* keyword, const Values& values) {
+  out += keyword;
+  for (auto c : values) {
+    out += ' ';
+    appendNumber(out, c);
+  }
+  out += '\n';
 }
 
 }  // namespace
@@ -175,21 +282,33 @@ Mesh readObj(const std::string& path) {
 }
 
 std::string formatObj(const Mesh& mesh) {
+  const MeshAttributes& at = mesh.attributes;
+  const bool uvs = at.hasUvs() && at.uvTriangles.size() == mesh.triangles.size();
+  const bool normals = at.hasNormals() && at.normalTriangles.size() == mesh.triangles.size();
   std::string out;
-  out.reserve(mesh.positions.size() * 40 + mesh.triangles.size() * 24);
-  for (const Vec3d& p : mesh.positions) {
-    out += 'v';
-    for (double c : p) {
-      out += ' ';
-      appendNumber(out, c);
-    }
-    out += '\n';
-  }
-  for (const Triangle& t : mesh.triangles) {
+  out.reserve(mesh.positions.size() * 40 + mesh.triangles.size() * (24 + 24 * (uvs + normals)));
+  for (const Vec3d& p : mesh.positions)
+    appendLine(out, "v", p);
+  // Texture coordinates and normals in the shortest decimal form that reads back to the same
+  // float.
+  if (uvs)
+    for (const Vec2f& t : at.uvs)
+      appendLine(out, "vt", t);
+  if (normals)
+    for (const Vec3f& n : at.normals)
+      appendLine(out, "vn", n);
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     out += 'f';
-    for (uint32_t v : t) {
+    for (int c = 0; c < 3; ++c) {
       out += ' ';
-      out += std::to_string(v + 1);
+      out += std::to_string(mesh.triangles[t][c] + 1);
+      if (!uvs && !normals) continue;
+      out += '/';
+      if (uvs) out += std::to_string(at.uvTriangles[t][c] + 1);
+      if (normals) {
+        out += '/';
+        out += std::to_string(at.normalTriangles[t][c] + 1);
+      }
     }
     out += '\n';
   }

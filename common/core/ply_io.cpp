@@ -1,6 +1,7 @@
 #include "common/core/ply_io.h"
 
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string_view>
@@ -8,6 +9,7 @@
 
 #include "common/core/error.h"
 #include "common/core/file_io.h"
+#include "common/core/mesh_attributes.h"
 #include "common/core/text_tokens.h"
 
 namespace tdvo {
@@ -64,7 +66,8 @@ struct Property {
 };
 
 // What the reader does with a property of the vertex or face element.
-enum class Role : uint8_t { kSkip, kX, kY, kZ, kIndices };
+// kU .. kNz: the vertex's texture coordinates and normal (mesh.h's attributes, per vertex).
+enum class Role : uint8_t { kSkip, kX, kY, kZ, kIndices, kU, kV, kNx, kNy, kNz };
 
 struct Element {
   std::string name;
@@ -148,6 +151,8 @@ class PlyParser {
                   " vertices)");
     }
     if (mesh_.positions.empty()) fail("no vertices");
+    if (hasUv_) mesh_.attributes.uvTriangles = mesh_.triangles;  // per vertex
+    if (hasNormal_) mesh_.attributes.normalTriangles = mesh_.triangles;
     if (mesh_.triangles.empty()) fail("no faces");
     if (properTriangles_ == 0)
       throw Error(name_ + firstFaceWhere_ +
@@ -265,15 +270,25 @@ class PlyParser {
         if (p.name == "x") role = Role::kX;
         if (p.name == "y") role = Role::kY;
         if (p.name == "z") role = Role::kZ;
+        if (p.name == "u" || p.name == "s" || p.name == "texture_u" || p.name == "texture_s")
+          role = Role::kU;
+        if (p.name == "v" || p.name == "t" || p.name == "texture_v" || p.name == "texture_t")
+          role = Role::kV;
+        if (p.name == "nx") role = Role::kNx;
+        if (p.name == "ny") role = Role::kNy;
+        if (p.name == "nz") role = Role::kNz;
       }
       if (e.isFace && (p.name == "vertex_indices" || p.name == "vertex_index")) {
         if (!p.list) failLine(n, "face property '" + p.name + "' must be a list");
         if (!isInteger(p.type)) failLine(n, "vertex indices must be of an integer type");
         role = Role::kIndices;
       }
-      for (Role r : e.roles)
-        if (role != Role::kSkip && r == role)
-          failLine(n, "a second '" + p.name + "' property in element '" + e.name + "'");
+      for (size_t i = 0; i < e.roles.size(); ++i)
+        if (role != Role::kSkip && e.roles[i] == role)
+          failLine(n, "a second '" + p.name + "' property in element '" + e.name + "'" +
+                          (p.name != e.properties[i].name
+                               ? " (as '" + e.properties[i].name + "', the same coordinate)"
+                               : std::string()));
       e.properties.push_back(std::move(p));
       e.roles.push_back(role);
       return;
@@ -309,6 +324,17 @@ class PlyParser {
       for (Role r : e.roles)
         found += r == Role::kX || r == Role::kY || r == Role::kZ;
       if (found != 3) failLine(e.line, "the vertex element needs properties x, y and z");
+      int uv = 0, normal = 0;
+      for (Role r : e.roles) {
+        uv += r == Role::kU || r == Role::kV;
+        normal += r == Role::kNx || r == Role::kNy || r == Role::kNz;
+      }
+      if (uv == 1)
+        failLine(e.line, "the vertex element has one texture coordinate (u and v go together)");
+      if (normal != 0 && normal != 3)
+        failLine(e.line, "the vertex element has part of a normal (nx, ny and nz go together)");
+      hasUv_ = uv == 2;
+      hasNormal_ = normal == 3;
     }
     if (e.isFace) {
       bool indices = false;
@@ -449,6 +475,8 @@ class PlyParser {
       if (mesh_.positions.size() >= kMaxPlyVertices)
         failHere("more than " + std::to_string(kMaxPlyVertices) + " vertices");
       mesh_.positions.push_back(vertex_);
+      if (hasUv_) mesh_.attributes.uvs.push_back(uv_);
+      if (hasNormal_) mesh_.attributes.normals.push_back(normal_);
     }
   }
 
@@ -482,8 +510,18 @@ class PlyParser {
   }
 
   void setCoordinate(Role role, double v) {
+    if (role >= Role::kU) return setAttribute(role, static_cast<float>(v));
     if (!(v == v) || v > 1e300 || v < -1e300) failHere("non-finite coordinate");
     vertex_[static_cast<int>(role) - static_cast<int>(Role::kX)] = v;
+  }
+
+  // A texture coordinate or normal component, as float (mesh.h).
+  void setAttribute(Role role, float v) {
+    if (!std::isfinite(v)) failHere("non-finite texture coordinate or normal");
+    if (role == Role::kU || role == Role::kV)
+      uv_[role == Role::kV] = v;
+    else
+      normal_[static_cast<int>(role) - static_cast<int>(Role::kNx)] = v;
   }
 
   // ascii values
@@ -496,6 +534,8 @@ class PlyParser {
         asciiFloat(token);
       return;
     }
+    if (role >= Role::kU && !isInteger(type))
+      return setAttribute(role, asciiFloat32(token));  // as float: no double rounding
     setCoordinate(
         role, isInteger(type) ? static_cast<double>(asciiInteger(token, type)) : asciiFloat(token));
   }
@@ -521,6 +561,14 @@ class PlyParser {
     const size_t k = static_cast<size_t>(type);
     if (v < lo[k] || v > hi[k])
       failLine(line_, "integer '" + std::string(token) + "' out of its type's range");
+    return v;
+  }
+
+  float asciiFloat32(std::string_view token) {
+    float v = 0;
+    auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
+    if (ec != std::errc() || ptr != token.data() + token.size())
+      failLine(line_, "bad number '" + std::string(token) + "'");
     return v;
   }
 
@@ -565,6 +613,7 @@ class PlyParser {
   }
 
   void binaryValue(Role role, Type type, size_t at) {
+    if (role >= Role::kU && type == Type::kFloat32) return setAttribute(role, load<float>(at));
     double v;
     if (type == Type::kFloat32)
       v = load<float>(at);
@@ -591,6 +640,9 @@ class PlyParser {
   std::vector<std::string_view> tokens_;
   std::vector<uint32_t> corners_;
   Vec3d vertex_{};
+  bool hasUv_ = false, hasNormal_ = false;  // the vertex element has u, v / nx, ny, nz
+  Vec2f uv_{};
+  Vec3f normal_{};
   Mesh mesh_;
   uint32_t maxIndex_ = 0;
   bool maxIndexKnown_ = false;
@@ -613,22 +665,43 @@ Mesh readPly(const std::string& path) {
   return parser.finish();
 }
 
-std::string formatPly(const Mesh& mesh, PlyEncoding encoding) {
+std::string formatPly(const Mesh& input, PlyEncoding encoding) {
+  // PLY attributes are per vertex: seams are split into appended vertex copies (mesh_attributes.h).
+  size_t copies = 0;
+  const Mesh split = splitAttributeSeams(input, &copies);
+  const Mesh& mesh = split;
+  const bool uvs = mesh.attributes.hasUvs(), normals = mesh.attributes.hasNormals();
   const bool ascii = encoding == PlyEncoding::kAscii;
   std::string out = "ply\nformat ";
   out += ascii ? "ascii" : "binary_little_endian";
-  out += " 1.0\ncomment 3DVO\nelement vertex " + std::to_string(mesh.positions.size()) +
-         "\nproperty double x\nproperty double y\nproperty double z\nelement face " +
-         std::to_string(mesh.triangles.size()) +
+  out += " 1.0\ncomment 3DVO\n";
+  if (copies > 0)
+    out += "comment 3DVO: the last " + std::to_string(copies) + " of " +
+           std::to_string(mesh.positions.size()) +
+           " vertices are copies made at texture-coordinate or normal seams\n";
+  out += "element vertex " + std::to_string(mesh.positions.size()) +
+         "\nproperty double x\nproperty double y\nproperty double z\n";
+  if (uvs) out += "property float u\nproperty float v\n";
+  if (normals) out += "property float nx\nproperty float ny\nproperty float nz\n";
+  out += "element face " + std::to_string(mesh.triangles.size()) +
          "\nproperty list uchar int vertex_indices\nend_header\n";
   if (ascii) {
     char buffer[32];
-    for (const Vec3d& p : mesh.positions) {
-      for (int c = 0; c < 3; ++c) {
-        auto r = std::to_chars(buffer, buffer + sizeof buffer, p[c]);
-        out.append(buffer, r.ptr);
-        out += c < 2 ? ' ' : '\n';
-      }
+    auto number = [&](auto value, char after) {
+      auto r = std::to_chars(buffer, buffer + sizeof buffer, value);
+      out.append(buffer, r.ptr);
+      out += after;
+    };
+    for (size_t v = 0; v < mesh.positions.size(); ++v) {
+      const Vec3d& p = mesh.positions[v];
+      for (int c = 0; c < 3; ++c)
+        number(p[c], c < 2 || uvs || normals ? ' ' : '\n');
+      if (uvs)
+        for (int c = 0; c < 2; ++c)
+          number(mesh.attributes.uvs[v][c], c < 1 || normals ? ' ' : '\n');
+      if (normals)
+        for (int c = 0; c < 3; ++c)
+          number(mesh.attributes.normals[v][c], c < 2 ? ' ' : '\n');
     }
     for (const Triangle& t : mesh.triangles)
       out += "3 " + std::to_string(t[0]) + ' ' + std::to_string(t[1]) + ' ' + std::to_string(t[2]) +
@@ -641,13 +714,26 @@ std::string formatPly(const Mesh& mesh, PlyEncoding encoding) {
     for (int i = 0; i < bytes; ++i)
       out += static_cast<char>((bits >> (8 * i)) & 0xFF);
   };
-  out.reserve(out.size() + mesh.positions.size() * 24 + mesh.triangles.size() * 13);
-  for (const Vec3d& p : mesh.positions)
-    for (double c : p) {
+  auto putFloat = [&put](float f) {
+    uint32_t bits;
+    std::memcpy(&bits, &f, 4);
+    put(bits, 4);
+  };
+  out.reserve(out.size() + mesh.positions.size() * (24 + 8 * uvs + 12 * normals) +
+              mesh.triangles.size() * 13);
+  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+    for (double c : mesh.positions[v]) {
       uint64_t bits;
       std::memcpy(&bits, &c, 8);
       put(bits, 8);
     }
+    if (uvs)
+      for (float c : mesh.attributes.uvs[v])
+        putFloat(c);
+    if (normals)
+      for (float c : mesh.attributes.normals[v])
+        putFloat(c);
+  }
   for (const Triangle& t : mesh.triangles) {
     put(3, 1);
     for (uint32_t v : t)

@@ -27,9 +27,12 @@ constexpr size_t kMaxPlyProperties = 256;              // properties of one elem
 // element's x, y and z (any numeric type) are the positions; the `face` element's
 // `vertex_indices` (or `vertex_index`) list gives the faces, polygons triangulated as a fan
 // around their first corner (as OBJ's). Every other property and element is read past and
-// ignored. Throws Error naming the file and the header line, ascii line or binary byte offset
-// for anything malformed, for a file without vertices or faces and for one whose every face
-// has a repeated vertex; triangles with a repeated vertex among proper ones are kept.
+// ignored, except the vertex's texture coordinates (u and v, or s and t, texture_u and
+// texture_v, texture_s and texture_t) and normal (nx, ny, nz), which become the mesh's
+// per-vertex attributes (mesh.h; read as float). Throws Error naming the file and the header line,
+// ascii line or binary byte offset for anything malformed, for a file without vertices or faces and
+// for one whose every face has a repeated vertex; triangles with a repeated vertex among proper
+// ones are kept.
 Mesh readPly(const std::string& path);
 
 // Parses PLY data held in memory; `name` is used in error messages only.
@@ -37,8 +40,11 @@ Mesh parsePly(const std::string& data, const std::string& name);
 
 enum class PlyEncoding { kBinaryLittleEndian, kAscii };
 
-// The PLY data of `mesh`: x, y, z as double (positions exactly as held), faces as a list of
-// uchar count and int indices. Binary little-endian by default.
+// The PLY data of `mesh`: x, y, z as double (positions exactly as held), then, when present,
+// u, v and nx, ny, nz as float, faces as a list of uchar count and int indices. Attributes
+// with seams (corners of one vertex with different values) are made per vertex by
+// splitAttributeSeams (mesh_attributes.h): copies of such vertices follow the original
+// vertices, and a header comment says how many. Binary little-endian by default.
 std::string formatPly(const Mesh& mesh, PlyEncoding encoding = PlyEncoding::kBinaryLittleEndian);
 
 // Writes formatPly(mesh, encoding) atomically (a temporary name renamed when complete).

@@ -1,0 +1,172 @@
+#include "encoder/attributes_encoder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "bitstream/cabac_io.h"
+#include "common/core/error.h"
+
+namespace tdvo {
+
+namespace {
+
+// The rotation of `t` that is smallest lexicographically (a triangle's key whatever its
+// rotation, repeated vertices included), and how far it is rotated.
+std::pair<Triangle, int> smallestRotation(const Triangle& t) {
+  Triangle best = t;
+  int by = 0;
+  for (int r = 1; r < 3; ++r) {
+    const Triangle rotated{t[r], t[(r + 1) % 3], t[(r + 2) % 3]};
+    if (rotated < best) {
+      best = rotated;
+      by = r;
+    }
+  }
+  return {best, by};
+}
+
+// For each output triangle, its input triangle and the rotation r with output corner c =
+// input corner (c + r) % 3.
+struct Twin {
+  uint32_t triangle;
+  int rotation;
+};
+
+std::vector<Twin> inputTwins(const IntMesh& input, const IMeshEncoding& i,
+                             const std::vector<uint32_t>& inputOf, const std::string& name) {
+  std::map<Triangle, std::vector<std::pair<uint32_t, int>>> byKey;  // each list used from its end
+  for (uint32_t t = static_cast<uint32_t>(input.triangles.size()); t-- > 0;) {
+    const auto [key, by] = smallestRotation(input.triangles[t]);
+    byKey[key].push_back({t, by});
+  }
+  std::vector<Twin> twins;
+  twins.reserve(i.order.triangles.size());
+  for (size_t t = 0; t < i.order.triangles.size(); ++t) {
+    const Triangle& o = i.order.triangles[t];
+    const auto [key, by] = smallestRotation({inputOf[o[0]], inputOf[o[1]], inputOf[o[2]]});
+    auto it = byKey.find(key);
+    if (it == byKey.end() || it->second.empty())
+      throw Error(name + ": output triangle " + std::to_string(t) +
+                  " has no twin among the input's triangles, so its corners' texture "
+                  "coordinates and normals are unknown (coincident vertices Draco's order "
+                  "could not tell apart; try DracoSpeed or PMeshMode intra)");
+    const auto [input, inputBy] = it->second.back();
+    it->second.pop_back();
+    // key = output rotated by `by` = input rotated by `inputBy`.
+    twins.push_back({input, ((inputBy - by) % 3 + 3) % 3});
+  }
+  return twins;
+}
+
+// Per-corner index triangles of the output from the input's.
+std::vector<Triangle> outputIndices(const std::vector<Triangle>& inputIndices,
+                                    const std::vector<Twin>& twins) {
+  std::vector<Triangle> out;
+  out.reserve(twins.size());
+  for (const Twin& w : twins) {
+    const Triangle& in = inputIndices[w.triangle];
+    out.push_back({in[w.rotation], in[(w.rotation + 1) % 3], in[(w.rotation + 2) % 3]});
+  }
+  return out;
+}
+
+bool perVertex(const std::vector<Triangle>& indices, size_t values, const IntMesh& mesh) {
+  return values == mesh.positions.size() && indices == mesh.triangles;
+}
+
+// Values quantised at `bits` must stay below 2^24 steps of 2^-bits.
+template <size_t N>
+void checkQuantisable(const std::vector<std::array<float, N>>& values, int bits,
+                      const std::string& name, const char* what, const char* key) {
+  if (bits == 0) return;
+  for (size_t i = 0; i < values.size(); ++i)
+    for (float f : values[i])
+      if (!(std::fabs(std::ldexp(static_cast<double>(f), bits)) < kMaxAttributeQuantValue - 0.5))
+        throw Error(name + ": " + what + " " + std::to_string(i) + " has a component (" +
+                    std::to_string(f) + ") too large for " + key + " " + std::to_string(bits) +
+                    " (magnitudes below 2^" + std::to_string(24 - bits) + ")");
+}
+
+}  // namespace
+
+AttributesEncoding encodeAttributes(const IntMesh& input, const IMeshEncoding& i, bool uvs,
+                                    NormalMode normals, uint32_t frame, const std::string& name,
+                                    int uvQuantBits, int normalQuantBits) {
+  const MeshAttributes& in = input.attributes;
+  uvs = uvs && in.hasUvs();
+  if (normals != NormalMode::kComputed && !in.hasNormals()) normals = NormalMode::kNone;
+  // Output vertex -> input vertex (copies Draco made of a vertex are one output vertex).
+  std::vector<uint32_t> inputOf(i.order.numVertices);
+  for (size_t j = 0; j < i.inputIndex.size(); ++j)
+    inputOf[i.order.vertexOutput[j]] = i.inputIndex[j];
+  const uint32_t maxValues = static_cast<uint32_t>(3 * i.order.triangles.size());
+
+  AttributesUnit at;
+  at.at_frame = frame;
+  at.maxValues = maxValues;
+  AttributesEncoding out;
+  MeshAttributes& m = out.decoded.values;
+  std::vector<Twin> twins;
+  auto twinsOnce = [&]() -> const std::vector<Twin>& {
+    if (twins.empty()) twins = inputTwins(input, i, inputOf, name);
+    return twins;
+  };
+  auto tooMany = [&](size_t count, const char* what) {
+    if (count > maxValues)
+      throw Error(name + ": " + std::to_string(count) + " " + what + " for " +
+                  std::to_string(i.order.triangles.size()) +
+                  " output triangles: more than their corners (values no corner uses cannot "
+                  "be carried)");
+  };
+  if (uvs && perVertex(in.uvTriangles, in.uvs.size(), input)) {
+    at.at_uv_mode = static_cast<uint8_t>(UvMode::kPerVertex);
+    for (uint32_t v : inputOf)
+      m.uvs.push_back(in.uvs[v]);
+  } else if (uvs) {
+    tooMany(in.uvs.size(), "texture coordinates");
+    at.at_uv_mode = static_cast<uint8_t>(UvMode::kPerCorner);
+    at.at_num_uvs = static_cast<uint32_t>(in.uvs.size());
+    m.uvs = in.uvs;
+    m.uvTriangles = outputIndices(in.uvTriangles, twinsOnce());
+  }
+  if (normals == NormalMode::kComputed) {
+    at.at_normal_mode = static_cast<uint8_t>(NormalMode::kComputed);
+  } else if (normals != NormalMode::kNone &&
+             perVertex(in.normalTriangles, in.normals.size(), input)) {
+    at.at_normal_mode = static_cast<uint8_t>(NormalMode::kPerVertex);
+    for (uint32_t v : inputOf)
+      m.normals.push_back(in.normals[v]);
+  } else if (normals != NormalMode::kNone) {
+    tooMany(in.normals.size(), "normals");
+    at.at_normal_mode = static_cast<uint8_t>(NormalMode::kPerCorner);
+    at.at_num_normals = static_cast<uint32_t>(in.normals.size());
+    m.normals = in.normals;
+    m.normalTriangles = outputIndices(in.normalTriangles, twinsOnce());
+  }
+  if (at.at_uv_mode != 0) {
+    at.at_uv_quant_bits = static_cast<uint8_t>(uvQuantBits);
+    checkQuantisable(m.uvs, uvQuantBits, name, "texture coordinate", "UVQuantBits");
+  }
+  if (!m.normals.empty()) {
+    at.at_normal_quant_bits = static_cast<uint8_t>(normalQuantBits);
+    checkQuantisable(m.normals, normalQuantBits, name, "normal", "NormalQuantBits");
+  }
+  CabacWriterIo writer;
+  // (Quantised values are replaced by the decoder's.)
+  codeAttributes(writer, at, i.order.numVertices, i.order.triangles, out.decoded);
+  at.at_cabac_payload = writer.finish();
+  out.payload = serialise(at);
+  // Closed loop: the decoder's reading is what the encoder meant.
+  CabacReaderIo reader(at.at_cabac_payload.data(), at.at_cabac_payload.size(),
+                       "encoder's own attributes");
+  DecodedAttributes check;
+  codeAttributes(reader, at, i.order.numVertices, i.order.triangles, check);
+  reader.finish();
+  if (check.values != out.decoded.values || check.normalMode != out.decoded.normalMode)
+    throw std::logic_error("attributes payload does not decode to the encoder's attributes");
+  return out;
+}
+
+}  // namespace tdvo
