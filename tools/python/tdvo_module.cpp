@@ -59,10 +59,19 @@ py::array view(const py::handle owner, const std::vector<T>& data, size_t rows, 
   return view(owner, data.empty() ? nullptr : data.data(), rows, columns);
 }
 
-// The same for rows held as std::array<T, 3>.
-template <class T>
-py::array view(const py::handle owner, const std::vector<std::array<T, 3>>& rows) {
-  return view(owner, rows.empty() ? nullptr : rows[0].data(), rows.size(), 3);
+// The same for rows held as std::array<T, N>.
+template <class T, size_t N>
+py::array view(const py::handle owner, const std::vector<std::array<T, N>>& rows) {
+  static_assert(sizeof(std::array<T, N>) == N * sizeof(T), "rows are packed");
+  return view(owner, rows.empty() ? nullptr : rows[0].data(), rows.size(), N);
+}
+
+// An attribute's rows (texture coordinates, normals or their index triangles) as a view, or
+// None when the frame has none.
+template <class T, size_t N>
+py::object viewOrNone(const py::handle owner, const std::vector<std::array<T, N>>& rows) {
+  if (rows.empty()) return py::none();
+  return view(owner, rows);
 }
 
 // The name of an object's type, for messages.
@@ -248,6 +257,13 @@ std::pair<py::object, py::object> frameArrays(const py::handle item, const std::
                   std::to_string(pair.size()) + " items");
     return {pair[0], pair[1]};
   }
+  // Never dropped silently: an object carrying texture coordinates or normals is refused.
+  for (const char* attribute : {"uvs", "normals"})
+    if (py::hasattr(item, attribute) && !item.attr(attribute).is_none())
+      throw Error(frame + ": has " +
+                  (std::string(attribute) == "uvs" ? "texture coordinates" : "normals") +
+                  ", which tdvo.encode does not take yet (docs/python.md); pass (positions, "
+                  "triangles) to code the geometry alone");
   if (py::hasattr(item, "positions") && py::hasattr(item, "triangles"))
     return {item.attr("positions"), item.attr("triangles")};
   throw Error(frame +
@@ -473,6 +489,28 @@ PYBIND11_MODULE(_tdvo, m) {
                              [](py::handle self) {
                                const auto& f = self.cast<const Frame&>().frame;
                                return view(self, f.mesh.triangles);
+                             })
+      // Texture coordinates and normals (docs/user-guide.md): per corner, as OBJ's f v/vt/vn:
+      // triangle t's corner c has uvs[uv_triangles[t, c]]; None when the stream has none.
+      .def_property_readonly("uvs",
+                             [](py::handle self) {
+                               const auto& f = self.cast<const Frame&>().frame;
+                               return viewOrNone(self, f.mesh.attributes.uvs);
+                             })
+      .def_property_readonly("uv_triangles",
+                             [](py::handle self) {
+                               const auto& f = self.cast<const Frame&>().frame;
+                               return viewOrNone(self, f.mesh.attributes.uvTriangles);
+                             })
+      .def_property_readonly("normals",
+                             [](py::handle self) {
+                               const auto& f = self.cast<const Frame&>().frame;
+                               return viewOrNone(self, f.mesh.attributes.normals);
+                             })
+      .def_property_readonly("normal_triangles",
+                             [](py::handle self) {
+                               const auto& f = self.cast<const Frame&>().frame;
+                               return viewOrNone(self, f.mesh.attributes.normalTriangles);
                              })
       .def_property_readonly(
           "textures",

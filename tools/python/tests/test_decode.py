@@ -1,13 +1,14 @@
 """Decoding every conformance stream in Python gives 3dvo-dec's MD5 lines (issue 19, point 5)."""
 
 import gc
+import gzip
 import subprocess
 
 import numpy as np
 import pytest
 
 import tdvo
-from conftest import STREAMS, app, md5_file_lines
+from conftest import CONFORMANCE, STREAMS, app, md5_file_lines
 
 IDS = [s.stem for s in STREAMS]
 
@@ -180,3 +181,52 @@ def test_one_decoder_shared_by_threads():
     for t in threads:
         t.join()
     assert sorted(numbers) == list(decoder.info.frame_numbers)
+
+
+def read_obj_attributes(path):
+    """The vt and vn values and the per-corner vt/vn indices of a (gzip) OBJ file, as float32 and
+    uint32 arrays (None for an attribute the file does not give)."""
+    opener = gzip.open if str(path).endswith(".gz") else open
+    uvs, normals, uv_tris, normal_tris = [], [], [], []
+    with opener(path, "rt") as f:
+        for line in f:
+            words = line.split()
+            if not words:
+                continue
+            if words[0] == "vt":
+                uvs.append([float(w) for w in words[1:3]])
+            elif words[0] == "vn":
+                normals.append([float(w) for w in words[1:4]])
+            elif words[0] == "f":
+                corners = [w.split("/") for w in words[1:]]
+                if len(corners[0]) > 1 and corners[0][1]:
+                    uv_tris.append([int(c[1]) - 1 for c in corners])
+                if len(corners[0]) > 2 and corners[0][2]:
+                    normal_tris.append([int(c[2]) - 1 for c in corners])
+
+    def array(rows, dtype):
+        return np.array(rows, dtype=dtype) if rows else None
+    return (array(uvs, np.float32), array(uv_tris, np.uint32), array(normals, np.float32),
+            array(normal_tris, np.uint32))
+
+
+def test_texture_coordinates_and_normals():
+    """A stream with texture coordinates and normals gives them as the input OBJ has them,
+    bit for bit (frames made from an I mesh carry its values); one without gives None."""
+    stream = CONFORMANCE / "streams" / "d3dmc_attributes_g3_ra2.3dvo"
+    decoder = tdvo.Decoder(str(stream))
+    frame = next(iter(decoder))
+    uvs, uv_tris, normals, normal_tris = read_obj_attributes(
+        CONFORMANCE / "inputs" / "blob-uv" / f"{frame.number:04d}.obj.gz")
+    assert uvs is not None
+    assert frame.uvs.dtype == np.float32 and frame.uvs.shape == uvs.shape
+    assert frame.uv_triangles.dtype == np.uint32
+    np.testing.assert_array_equal(frame.uvs, uvs)
+    np.testing.assert_array_equal(frame.uv_triangles, uv_tris)
+    if normals is not None and frame.normals is not None and normal_tris is not None:
+        assert frame.normals.shape[1] == 3
+        assert int(frame.normal_triangles.max()) < len(frame.normals)
+    assert not frame.uvs.flags.writeable
+    plain = next(iter(tdvo.Decoder(str(CONFORMANCE / "streams" / "d3dmc_q4_g5.3dvo"))))
+    assert plain.uvs is None and plain.normals is None and plain.uv_triangles is None
+

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import tdvo
-from conftest import SOURCE_DIR, STREAMS, app, deforming_sequence
+from conftest import CONFORMANCE, SOURCE_DIR, STREAMS, app, deforming_sequence
 
 
 def catalogue():
@@ -223,6 +223,15 @@ def test_unknown_cfg_key(tmp_path):
     with pytest.raises(tdvo.Error) as raised:
         tdvo.encode([frame_with()], {"Frobnicate": 1})
     assert str(raised.value) == expected
+
+
+@row("PY17")
+def test_frame_with_texture_coordinates_is_refused_not_stripped():
+    stream = CONFORMANCE / "streams" / "d3dmc_attributes_g3_ra2.3dvo"
+    frame = next(iter(tdvo.Decoder(str(stream))))
+    expect("PY17", lambda: tdvo.encode([frame], {"GOMSize": 1}))
+    # The geometry alone, asked for as a pair, is coded.
+    assert len(tdvo.encode([(frame.positions, frame.triangles)], {"GOMSize": 1}).stream) > 0
 
 
 def test_seek_outside_the_stream():
