@@ -15,16 +15,19 @@
 namespace tdvo {
 namespace {
 
-// Runs `f`, turning a C++ exception into a thrown JavaScript Error with the same message.
+// Runs `f`, turning a C++ exception into a thrown JavaScript Error with the same message. The
+// JavaScript exception unwinds the C++ frames without destructors: the message is kept in a
+// static buffer (the module is single-threaded) and the Error made from a C string, so that
+// nothing is left allocated.
 template <class F>
 auto rethrowAsJs(F&& f) -> decltype(f()) {
-  std::string message;
+  static std::string message;
   try {
     return f();
   } catch (const std::exception& e) {
     message = e.what();
   }
-  emscripten::val::global("Error").new_(message).throw_();
+  emscripten::val::global("Error").new_(emscripten::val(message.c_str())).throw_();
 }
 
 class WasmDecoder {
