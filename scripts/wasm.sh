@@ -66,6 +66,7 @@ if [ ! -f "$deps/lib/libmd.a" ]; then
 fi
 
 # --- Draco: its own CMake, the decoder's object libraries only ----------------------------------
+# (-w: Draco's own warnings are not ours to fix, as for tinygltf in common/core)
 draco_decoder_parts=(draco_attributes draco_compression_attributes_dec
   draco_compression_attributes_pred_schemes_dec draco_compression_bit_coders
   draco_compression_decode draco_compression_entropy draco_compression_mesh_traverser
@@ -74,7 +75,7 @@ draco_decoder_parts=(draco_attributes draco_compression_attributes_dec
   draco_points_dec)
 if [ ! -f "$deps/lib/libdraco.a" ]; then
   emcmake cmake -S "$deps/src/draco" -B "$deps/draco-build" -DCMAKE_BUILD_TYPE=Release \
-    -DDRACO_JS_GLUE=OFF -DDRACO_TESTS=OFF -DCMAKE_CXX_FLAGS=-fexceptions >/dev/null
+    -DDRACO_JS_GLUE=OFF -DDRACO_TESTS=OFF "-DCMAKE_CXX_FLAGS=-fexceptions -w" >/dev/null
   cmake --build "$deps/draco-build" -j "$jobs" --target "${draco_decoder_parts[@]}" >/dev/null
   objects=()
   for part in "${draco_decoder_parts[@]}"; do
