@@ -228,7 +228,7 @@ inline __attribute__((always_inline)) void rasteriseTriangle(const ScreenVertex&
       int64_t first = -1, last = -1;
       for (int64_t x = xMin; x <= xMax; ++x) {
         const bool inside = (e[0] >= bias[0]) & (e[1] >= bias[1]) & (e[2] >= bias[2]);
-        first = inside & (first < 0) ? x : first;
+        first = (inside & (first < 0)) ? x : first;
         last = inside ? x : last;
         for (int k = 0; k < 3; ++k)
           e[k] -= dy[k] * one;
