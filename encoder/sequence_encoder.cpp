@@ -1,5 +1,7 @@
 #include "encoder/sequence_encoder.h"
 
+#include "common/core/warnings.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <string>
@@ -32,7 +34,7 @@ class GomWriter {
   void write(size_t first, const GomGeometry& gom) {
     gomDecoded_.clear();
     for (const std::string& warning : gom.warnings)
-      std::fprintf(stderr, "3dvo-enc: warning: %s\n", warning.c_str());
+      warn(warning);
     // How normals are carried, said when it changes (the first time, and from the GOM on that
     // changes it).
     if (attributesPresent_ && gom.normals != normals_) {

@@ -282,8 +282,10 @@ TEST(EncoderApi, BadFramesAndKeysAreErrors) {
         << e.what();
   }
   bad = frames;
-  bad[0].attributes.uvs = {{0.5f, 0.5f}};
-  bad[0].attributes.uvTriangles.assign(bad[0].triangles.size(), Triangle{0, 0, 0});
+  for (Mesh& frame : bad) {  // the same texture coordinates in every frame of the GOM
+    frame.attributes.uvs = {{0.5f, 0.5f}};
+    frame.attributes.uvTriangles.assign(frame.triangles.size(), Triangle{0, 0, 0});
+  }
   EXPECT_NO_THROW(encoder.encode(bad));
   bad[0].attributes.uvTriangles[3][1] = 1;
   try {

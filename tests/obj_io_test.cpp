@@ -6,9 +6,11 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "common/core/error.h"
 #include "common/core/obj_io.h"
+#include "common/core/warnings.h"
 #include "tests/test_support.h"
 
 namespace tdvo {
@@ -313,6 +315,32 @@ TEST(ObjIoErrors, ReadObjNamesThePath) {
   } catch (const Error& e) {
     EXPECT_EQ(std::string(e.what()), path + ":4: bad vertex index 'x'");
   }
+}
+
+// What the reader leaves out of a file it says (common/core/warnings.h), once per attribute.
+TEST(ObjIo, AttributesLeftOutAreSaid) {
+  std::vector<std::string> said;
+  const WarningHandler before =
+      setWarningHandler([&](const std::string& message) { said.push_back(message); });
+  const Mesh some = parseObj(
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\n"
+      "f 1/1 2/2 3/3\nf 1 2 4\n",
+      "some.obj");
+  EXPECT_TRUE(some.attributes.uvs.empty());
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_EQ(said[0],
+            "some.obj: texture coordinates given by only some face corners: left out (a mesh has "
+            "them at every corner or not at all)");
+  said.clear();
+  const Mesh unused = parseObj("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1 2 3\n", "unused.obj");
+  EXPECT_TRUE(unused.attributes.normals.empty());
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_EQ(said[0], "unused.obj: its 1 normals are used by no face: left out");
+  said.clear();
+  const Mesh full = parseObj("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n", "full.obj");
+  EXPECT_EQ(full.attributes.uvs.size(), 1u);
+  EXPECT_TRUE(said.empty());
+  setWarningHandler(before);
 }
 
 }  // namespace

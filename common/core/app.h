@@ -10,6 +10,7 @@
 
 #include "common/core/error.h"
 #include "common/core/interrupt.h"
+#include "common/core/warnings.h"
 
 namespace tdvo {
 
@@ -17,6 +18,10 @@ template <class Body>
 int runApp(const char* app, Body body) {
   // Before any thread exists: an interrupted run removes its unfinished output files.
   installInterruptCleanup();
+  // What the libraries leave out or change of an input is said on stderr, with the app's name.
+  setWarningHandler([app](const std::string& message) {
+    std::fprintf(stderr, "%s: warning: %s\n", app, message.c_str());
+  });
   try {
     return body();
   } catch (const Error& e) {

@@ -17,6 +17,7 @@
 #include "common/core/file_io.h"
 #include "common/core/mesh_attributes.h"
 #include "common/core/tiny_gltf_config.h"
+#include "common/core/warnings.h"
 
 namespace tdvo {
 
@@ -507,12 +508,21 @@ struct GltfFile::Impl {
     mesh.triangles.reserve(corners / 3);
     // Texture coordinates (TEXCOORD_0) and normals (NORMAL) are the frame's when every primitive
     // shown has them (docs/user-guide.md, "Texture coordinates and normals").
-    bool uvs = true, normals = true;
+    bool uvs = true, normals = true, someUvs = false, someNormals = false;
     for (const Shown& s : shown)
       for (const tinygltf::Primitive& prim : model.meshes[static_cast<size_t>(s.mesh)].primitives) {
         uvs &= prim.attributes.count("TEXCOORD_0") > 0;
         normals &= prim.attributes.count("NORMAL") > 0;
+        someUvs |= prim.attributes.count("TEXCOORD_0") > 0;
+        someNormals |= prim.attributes.count("NORMAL") > 0;
       }
+    // What is dropped is said (common/core/warnings.h).
+    if (someUvs && !uvs)
+      warn(name + ": frame " + std::to_string(k) +
+           ": TEXCOORD_0 given by only some primitives: left out");
+    if (someNormals && !normals)
+      warn(name + ": frame " + std::to_string(k) +
+           ": NORMAL given by only some primitives: left out");
     for (const Shown& s : shown) {
       const tinygltf::Mesh& m = model.meshes[static_cast<size_t>(s.mesh)];
       for (size_t p = 0; p < m.primitives.size(); ++p) {

@@ -1,5 +1,7 @@
 #include "common/core/obj_io.h"
 
+#include "common/core/warnings.h"
+
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -206,6 +208,16 @@ class ObjParser {
   // later in the file); false when not every face corner gives it, or the file has no values
   // for it (what there is of it is then dropped: a mesh has it at every corner or not at all).
   bool finishAttribute(Attribute& a, size_t count, std::vector<Triangle>& triangles) {
+    // What is dropped is said (common/core/warnings.h).
+    if (a.state == 3)
+      warn(name_ + ": " + a.what + "s given by only some face corners: left out (a mesh has " +
+           "them at every corner or not at all)");
+    else if (a.state == 1 && count == 0)
+      warn(name_ + ": faces give " + a.what + " indices, but the file has no " + a.what +
+           " values: left out");
+    else if (a.state == 2 && count > 0)
+      warn(name_ + ": its " + std::to_string(count) + " " + a.what +
+           "s are used by no face: " + "left out");
     if (a.state != 1 || count == 0) return false;
     if (a.maxIndex >= count) {
       lineNumber_ = a.maxIndexLine;

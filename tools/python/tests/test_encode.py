@@ -33,15 +33,25 @@ def input_frames(keys):
 def test_conformance_cfg(cfg, tmp_path):
     """Each conformance stream again, from numpy: equal to the committed stream and to a
     fresh 3dvo-enc run, and its MD5 lines to the committed log and to the Python decode."""
-    frames, keys = input_frames(read_cfg(cfg))
-    coded = tdvo.encode(frames, keys)
+    cfg_keys = read_cfg(cfg)
+    # Inputs with texture coordinates and normals: tdvo.encode takes geometry only (docs/
+    # python.md), so both sides code the geometry alone (the C++ API test,
+    # EncoderApi.FramesFromMemoryGiveTheConformanceStreams, covers these streams whole).
+    geometry_only = "attributes" in cfg.stem
+    if geometry_only and ".ply" in cfg_keys.get("InputMeshPattern", ""):
+        pytest.skip("PLY input: this test reads OBJ in Python; the C++ API test covers it")
+    overrides = {"TextureCoordinates": "0", "Normals": "none"} if geometry_only else {}
+    frames, keys = input_frames(cfg_keys)
+    coded = tdvo.encode(frames, {**keys, **overrides})
     committed = CONFORMANCE / "streams" / (cfg.stem + ".3dvo")
     out = tmp_path / "x.3dvo"
-    subprocess.run([app("3dvo-enc"), "-c", str(cfg), f"--BitstreamFile={out}"], check=True,
+    subprocess.run([app("3dvo-enc"), "-c", str(cfg), f"--BitstreamFile={out}"]
+                   + [f"--{k}={v}" for k, v in overrides.items()], check=True,
                    cwd=CONFORMANCE, capture_output=True)
     assert coded.stream == out.read_bytes()
-    assert coded.stream == committed.read_bytes()
-    assert coded.md5_lines == md5_file_lines(committed)
+    if not geometry_only:
+        assert coded.stream == committed.read_bytes()
+        assert coded.md5_lines == md5_file_lines(committed)
     assert tdvo.md5_lines(coded.stream) == coded.md5_lines
     assert isinstance(coded.stream, bytes)
     assert coded.stats["header_bytes"] > 0 and coded.stats["vertex_frames"] > 0
