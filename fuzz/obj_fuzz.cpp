@@ -27,14 +27,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   const tdvo::Mesh again = tdvo::parseObj(tdvo::formatObj(mesh), "formatted.obj");
   const tdvo::MeshAttributes &a = mesh.attributes, &b = again.attributes;
-  const bool same =
-      again.triangles == mesh.triangles && again.positions.size() == mesh.positions.size() &&
-      std::memcmp(again.positions.data(), mesh.positions.data(),
-                  mesh.positions.size() * sizeof(tdvo::Vec3d)) == 0 &&
-      a.uvTriangles == b.uvTriangles && a.normalTriangles == b.normalTriangles &&
-      a.uvs.size() == b.uvs.size() && a.normals.size() == b.normals.size() &&
-      std::memcmp(a.uvs.data(), b.uvs.data(), a.uvs.size() * sizeof(tdvo::Vec2f)) == 0 &&
-      std::memcmp(a.normals.data(), b.normals.data(), a.normals.size() * sizeof(tdvo::Vec3f)) == 0;
+  // Bit for bit (NaN payloads and -0 included); empty lists may have null data, which memcmp
+  // must not be given.
+  auto sameBits = [](const auto& x, const auto& y) {
+    return x.size() == y.size() &&
+           (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0);
+  };
+  const bool same = again.triangles == mesh.triangles &&
+                    again.positions.size() == mesh.positions.size() &&
+                    sameBits(again.positions, mesh.positions) && a.uvTriangles == b.uvTriangles &&
+                    a.normalTriangles == b.normalTriangles && sameBits(a.uvs, b.uvs) &&
+                    sameBits(a.normals, b.normals);
   if (!same) {
     std::fprintf(stderr, "obj fuzz target: formatObj output does not parse back to the mesh\n");
     std::abort();
