@@ -12,6 +12,8 @@ namespace tdvo {
 
 namespace {
 
+const char kNotA3dvoStream[] = ": not a 3DVO stream (the first four bytes are not \"3DVO\")";
+
 uint32_t unitCrc(const uint8_t* header, const uint8_t* payload, uint32_t size) {
   uLong crc = crc32(0L, Z_NULL, 0);
   crc = crc32(crc, header, kUnitHeaderSize);
@@ -79,8 +81,7 @@ std::string UnitView::describe() const {
 
 UnitReader::UnitReader(const uint8_t* data, size_t size, std::string name)
     : data_(data), size_(size), pos_(4), name_(std::move(name)) {
-  if (size < 4 || std::memcmp(data, kStreamMagic, 4) != 0)
-    throw Error(name_ + ": not a 3DVO stream (the first four bytes are not \"3DVO\")");
+  if (size < 4 || std::memcmp(data, kStreamMagic, 4) != 0) throw Error(name_ + kNotA3dvoStream);
 }
 
 namespace {
@@ -147,7 +148,7 @@ UnitFileReader::UnitFileReader(const std::string& path, std::string name) : name
   if (size_ >= 4) read(magic, 4);
   if (size_ < 4 || std::memcmp(magic, kStreamMagic, 4) != 0) {
     std::fclose(file_);
-    throw Error(name_ + ": not a 3DVO stream (the first four bytes are not \"3DVO\")");
+    throw Error(name_ + kNotA3dvoStream);
   }
 }
 
@@ -185,6 +186,96 @@ bool UnitFileReader::next(UnitView& unit) {
   parseUnit(unit_.data(), available, pos_, index_++, name_, unit);
   pos_ += kUnitOverhead + unit.size;
   return true;
+}
+
+// ---- ArrivingStream ----
+
+namespace {
+
+// Reads the units of an ArrivingStream, each copied into a buffer of its own.
+class ArrivingUnitReader : public UnitSource {
+ public:
+  explicit ArrivingUnitReader(const ArrivingStream& stream) : stream_(stream) {}
+
+  bool next(UnitView& unit) override {
+    const uint64_t size = stream_.size();
+    if (pos_ >= size && stream_.finished()) return false;
+    const uint64_t available = size - pos_;
+    if (!stream_.finished()) {
+      // Not yet arrived: the header, or (with a plausible size) the payload and CRC.
+      const bool header = available >= kUnitHeaderSize;
+      const uint32_t unitSize = header ? readU32(stream_.data() + pos_ + 1) : 0;
+      if (!header || (unitSize <= kMaxUnitSize && available < kUnitOverhead + uint64_t{unitSize}))
+        throw Error(stream_.name() + ": unit " + std::to_string(index_) + " at byte " +
+                    std::to_string(pos_) + " has not arrived yet (" + std::to_string(size) +
+                    " bytes so far)");
+    }
+    // As much of the unit as there is (parseUnit reports a short one), copied.
+    uint64_t take = std::min<uint64_t>(available, kUnitHeaderSize);
+    if (take == kUnitHeaderSize) {
+      const uint32_t unitSize = readU32(stream_.data() + pos_ + 1);
+      if (unitSize <= kMaxUnitSize && available >= kUnitOverhead + uint64_t{unitSize})
+        take = kUnitOverhead + unitSize;
+    }
+    unit_.assign(stream_.data() + pos_, stream_.data() + pos_ + take);
+    parseUnit(unit_.data(), available, pos_, index_++, stream_.name(), unit);
+    pos_ += kUnitOverhead + unit.size;
+    return true;
+  }
+
+  void seek(uint64_t offset, size_t index) override {
+    if (offset < 4 || offset > stream_.size())
+      throw Error(stream_.name() + ": seek to byte " + std::to_string(offset) +
+                  " outside the stream");
+    pos_ = offset;
+    index_ = index;
+  }
+
+ private:
+  const ArrivingStream& stream_;
+  uint64_t pos_ = 4;
+  size_t index_ = 0;
+  std::vector<uint8_t> unit_;
+};
+
+}  // namespace
+
+ArrivingStream::ArrivingStream(std::string name) : name_(std::move(name)) {}
+
+void ArrivingStream::append(const uint8_t* data, size_t size) {
+  if (finished_) throw Error(name_ + ": bytes appended after the end of the stream");
+  const size_t before = bytes_.size();
+  bytes_.insert(bytes_.end(), data, data + size);
+  if (before < 4 && bytes_.size() >= 4 && std::memcmp(bytes_.data(), kStreamMagic, 4) != 0) {
+    bytes_.resize(before);
+    throw Error(name_ + kNotA3dvoStream);
+  }
+  scan();
+}
+
+void ArrivingStream::finish() {
+  finished_ = true;
+  if (bytes_.size() < 4) throw Error(name_ + kNotA3dvoStream);
+}
+
+void ArrivingStream::scan() {
+  while (!blocked_ && bytes_.size() >= 4 && scanned_ + kUnitHeaderSize <= bytes_.size()) {
+    UnitStart u;
+    u.type = bytes_[scanned_];
+    u.size = readU32(&bytes_[scanned_ + 1]);
+    u.offset = scanned_;
+    if (u.size > kMaxUnitSize) {
+      blocked_ = true;
+      break;
+    }
+    units_.push_back(u);
+    scanned_ = u.end();  // may lie past what has arrived: the payload is still arriving
+  }
+}
+
+std::unique_ptr<UnitSource> ArrivingStream::source() const {
+  if (finished_ && bytes_.size() < 4) throw Error(name_ + kNotA3dvoStream);
+  return std::make_unique<ArrivingUnitReader>(*this);
 }
 
 }  // namespace tdvo

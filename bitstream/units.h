@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -112,6 +113,47 @@ class UnitFileReader : public UnitSource {
   size_t index_ = 0;
   std::string name_;
   std::vector<uint8_t> unit_;  // the current unit: header, payload, CRC
+};
+
+// A stream whose bytes arrive in pieces, in order (a download): append() them as they come,
+// finish() after the last. It keeps the bytes (the stream's size, no more) and the start of
+// every unit whose header has arrived. Sources over it (source()) read units as UnitReader
+// does; before finish(), a unit that has not wholly arrived is an error saying so (callers ask
+// arrived() first), after it, a short stream is truncated exactly as UnitReader reports. A
+// source copies each unit it returns, so that later appends do not move what it handed out.
+class ArrivingStream {
+ public:
+  // A unit whose 5-byte header has arrived.
+  struct UnitStart {
+    uint8_t type = 0;
+    uint32_t size = 0;
+    uint64_t offset = 0;
+    uint64_t end() const { return offset + kUnitOverhead + size; }
+  };
+
+  explicit ArrivingStream(std::string name);
+  // Throws Error when the first four bytes are not "3DVO", or after finish().
+  void append(const uint8_t* data, size_t size);
+  void finish();
+  bool finished() const { return finished_; }
+  uint64_t size() const { return bytes_.size(); }
+  const uint8_t* data() const { return bytes_.data(); }
+  const std::string& name() const { return name_; }
+  // Every unit whose header has arrived, in stream order. The scan stops at a unit_size over
+  // the 1 GiB limit (scanBlocked(): the stream is bad there; a decoder reports it).
+  const std::vector<UnitStart>& units() const { return units_; }
+  bool scanBlocked() const { return blocked_; }
+  // Whether the bytes before stream offset `end` have arrived (or the stream is finished).
+  bool arrived(uint64_t end) const { return finished_ || end <= bytes_.size(); }
+  std::unique_ptr<UnitSource> source() const;
+
+ private:
+  void scan();
+  std::string name_;
+  std::vector<uint8_t> bytes_;
+  std::vector<UnitStart> units_;
+  uint64_t scanned_ = 4;  // the next unit's offset
+  bool blocked_ = false, finished_ = false;
 };
 
 }  // namespace tdvo

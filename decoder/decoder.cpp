@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "bitstream/byte_io.h"
+#include "bitstream/header_hash.h"
 #include "bitstream/syntax.h"
 #include "bitstream/units.h"
 #include "common/core/error.h"
@@ -15,27 +16,33 @@ std::string DecodedFrame::geometryHashLine() const {
   return tdvo::geometryHashLine(static_cast<int>(number), mesh);
 }
 
-// A Decoder's stream (a file, or bytes in memory), the run decoding it (one StreamDecoder, made
-// anew by a seek), and the settings every run gets.
+// A Decoder's stream (a file, bytes in memory, or bytes arriving), the run decoding it (one
+// StreamDecoder, made anew by a seek), and the settings every run gets.
 struct Decoder::State {
   std::string name;
   std::string path;            // a file: read unit by unit, by two readers
   std::vector<uint8_t> owned;  // memory: the decoder's copy (when asked to copy)
   const uint8_t* data = nullptr;
   size_t size = 0;
+  std::unique_ptr<ArrivingStream> arriving;  // bytes arriving (openArriving)
+  bool headerRead = false;
+  uint32_t nextIndex = 0;  // the stream frame next() makes next
 
   std::unique_ptr<UnitSource> units, textureUnits;  // geometry and texture units
   std::unique_ptr<StreamDecoder> decoder;
   StreamInfo info;
   std::optional<std::vector<int64_t>> gomStarts;
+  std::vector<int64_t> partialGomStarts;  // an arriving stream's so far
 
   PictureDecoderFactory pictures;
+  bool keepAccessUnits = false;
   uint64_t maxVertexFramesPerByte = kDefaultMaxVertexFramesPerByte;
   uint64_t maxMeshMemoryPerByte = kDefaultMaxMeshMemoryPerByte;
   uint64_t maxTexturePixelsPerByte = kDefaultMaxTexturePixelsPerByte;
 
   std::unique_ptr<UnitSource> source() const {
     if (!path.empty()) return std::make_unique<UnitFileReader>(path, name);
+    if (arriving) return arriving->source();
     return std::make_unique<UnitReader>(data, size, name);
   }
 
@@ -49,7 +56,10 @@ struct Decoder::State {
     decoder->setMaxMeshMemoryPerByte(maxMeshMemoryPerByte);
     decoder->setMaxTexturePixelsPerByte(maxTexturePixelsPerByte);
     decoder->setPictureDecoder(pictures);
+    decoder->setKeepAccessUnits(keepAccessUnits);
+    nextIndex = first < 0 ? 0 : static_cast<uint32_t>(first - info.firstFrame);
     decoder->readHeader();
+    headerRead = true;
     const SequenceHeader& sh = decoder->sequenceHeader();
     info.syntaxVersion = sh.sh_syntax_version;
     info.firstFrame = sh.sh_first_frame;
@@ -65,7 +75,7 @@ struct Decoder::State {
 };
 
 Decoder::Decoder(std::unique_ptr<State> state) : s_(std::move(state)) {
-  s_->restart(-1);
+  if (!s_->arriving) s_->restart(-1);
 }
 
 Decoder::Decoder(Decoder&&) noexcept = default;
@@ -91,39 +101,127 @@ Decoder Decoder::openMemory(const uint8_t* data, size_t size, const std::string&
   return Decoder(std::move(state));
 }
 
+Decoder Decoder::openArriving(const std::string& name) {
+  auto state = std::make_unique<State>();
+  state->name = name;
+  state->arriving = std::make_unique<ArrivingStream>(name);
+  return Decoder(std::move(state));
+}
+
+namespace {
+
+void checkArriving(const std::unique_ptr<ArrivingStream>& arriving, const char* what) {
+  if (!arriving)
+    throw Error(std::string("Decoder::") + what + ": only for a stream opened with openArriving");
+}
+
+}  // namespace
+
+void Decoder::append(const uint8_t* data, size_t size) {
+  checkArriving(s_->arriving, "append");
+  s_->arriving->append(data, size);
+}
+
+void Decoder::finish() {
+  checkArriving(s_->arriving, "finish");
+  s_->arriving->finish();
+}
+
+uint64_t Decoder::bytesArrived() const {
+  return s_->arriving ? s_->arriving->size() : s_->size;
+}
+
+bool Decoder::headerArrived() {
+  State& s = *s_;
+  if (s.headerRead) return true;
+  const ArrivingStream& a = *s.arriving;
+  if (!a.finished() && !a.scanBlocked() && (a.units().empty() || !a.arrived(a.units()[0].end())))
+    return false;
+  s.restart(-1);
+  return true;
+}
+
+bool Decoder::canDecodeNext() {
+  State& s = *s_;
+  if (!s.arriving) return true;
+  if (!headerArrived()) return false;
+  const ArrivingStream& a = *s.arriving;
+  if (a.finished()) return true;
+  // After the last frame, next() checks that nothing follows it: that needs the end.
+  if (s.nextIndex >= s.info.frameCount) return false;
+  if (a.scanBlocked()) return true;  // a unit_size over the limit: next() reports it
+  bool inGom = false;
+  for (const ArrivingStream::UnitStart& u : a.units()) {
+    if (u.type != static_cast<uint8_t>(UnitType::kGomHeader)) continue;
+    // A later GOM header has arrived: the units of the GOM holding the next frame all lie
+    // before it (a decoder that finds it out of place reads no further).
+    if (inGom) return a.arrived(u.end());
+    if (!a.arrived(u.end())) return false;
+    GomHeader gh;
+    try {
+      ByteReader reader(a.data() + u.offset + kUnitHeaderSize, u.size, s.name, u.offset);
+      transfer(reader, gh);
+    } catch (const Error&) {
+      return true;  // a malformed GOM header: next() reports it
+    }
+    if (uint64_t{gh.gh_first_frame} + gh.gh_frame_count > s.nextIndex) {
+      if (gh.gh_first_frame > s.nextIndex) return true;  // not the expected GOM: next() says so
+      inGom = true;
+    }
+  }
+  return false;
+}
+
 const StreamInfo& Decoder::info() const {
+  if (!s_->headerRead) throw Error(s_->name + ": the sequence header has not arrived yet");
   return s_->info;
+}
+
+std::string Decoder::headerHashLine() const {
+  if (!s_->headerRead) throw Error(s_->name + ": the sequence header has not arrived yet");
+  return sequenceHeaderHashLine(s_->decoder->sequenceHeader());
 }
 
 void Decoder::setPictureDecoder(PictureDecoderFactory factory) {
   s_->pictures = std::move(factory);
-  s_->decoder->setPictureDecoder(s_->pictures);
+  if (s_->decoder) s_->decoder->setPictureDecoder(s_->pictures);
+}
+
+void Decoder::setTextureAccessUnits(bool keep) {
+  s_->keepAccessUnits = keep;
+  if (s_->decoder) s_->decoder->setKeepAccessUnits(keep);
 }
 
 void Decoder::setMaxVertexFramesPerByte(uint64_t limit) {
   s_->maxVertexFramesPerByte = limit;
-  s_->decoder->setMaxVertexFramesPerByte(limit);
+  if (s_->decoder) s_->decoder->setMaxVertexFramesPerByte(limit);
 }
 
 void Decoder::setMaxMeshMemoryPerByte(uint64_t limit) {
   s_->maxMeshMemoryPerByte = limit;
-  s_->decoder->setMaxMeshMemoryPerByte(limit);
+  if (s_->decoder) s_->decoder->setMaxMeshMemoryPerByte(limit);
 }
 
 void Decoder::setMaxTexturePixelsPerByte(uint64_t limit) {
   s_->maxTexturePixelsPerByte = limit;
-  s_->decoder->setMaxTexturePixelsPerByte(limit);
+  if (s_->decoder) s_->decoder->setMaxTexturePixelsPerByte(limit);
 }
 
 bool Decoder::next(DecodedFrame& frame) {
   State& s = *s_;
+  if (!canDecodeNext())
+    throw Error(s.name + ": frame " + std::to_string(s.info.frameNumber(s.nextIndex)) +
+                " has not arrived yet (" + std::to_string(bytesArrived()) +
+                " bytes so far; wait for canDecodeNext())");
   // The texture units are read by a second reader of the same stream (StreamDecoder::pullFrame).
-  if (s.pictures && !s.info.cameras.empty() && !s.textureUnits) s.textureUnits = s.source();
+  if ((s.pictures || s.keepAccessUnits) && !s.info.cameras.empty() && !s.textureUnits)
+    s.textureUnits = s.source();
   uint32_t index = 0;
   const IntMesh* mesh = nullptr;
   if (!s.decoder->pullFrame(index, mesh, s.textureUnits.get(), &frame.textures)) return false;
   frame.index = index;
   frame.number = s.info.frameNumber(index);
+  s.nextIndex = index + 1;
   frame.mesh = *mesh;  // positions, triangles, texture coordinates and normals
   frame.positions.resize(mesh->positions.size());
   for (size_t v = 0; v < mesh->positions.size(); ++v) {
@@ -137,10 +235,20 @@ bool Decoder::next(DecodedFrame& frame) {
 const std::vector<int64_t>& Decoder::gomStarts() {
   State& s = *s_;
   if (s.gomStarts) return *s.gomStarts;
+  info();  // the header must have arrived
   std::vector<int64_t> starts;
   std::unique_ptr<UnitSource> units = s.source();
   UnitView unit;
-  while (units->next(unit)) {
+  // An arriving stream, before finish(): the units that have arrived.
+  const bool partial = s.arriving && !s.arriving->finished();
+  size_t read = 0;
+  const auto more = [&] {
+    if (!partial) return true;
+    const auto& arrived = s.arriving->units();
+    return read < arrived.size() && s.arriving->arrived(arrived[read].end());
+  };
+  while (more() && units->next(unit)) {
+    ++read;
     if (unit.type != static_cast<uint8_t>(UnitType::kGomHeader)) continue;
     GomHeader gh;
     ByteReader reader(unit.payload, unit.size, s.name + ": " + unit.describe(), unit.payloadOffset);
@@ -149,11 +257,14 @@ const std::vector<int64_t>& Decoder::gomStarts() {
     if (gh.gh_random_access) starts.push_back(s.info.frameNumber(gh.gh_first_frame));
   }
   s.gomStarts = std::move(starts);
-  return *s.gomStarts;
+  if (!partial) return *s.gomStarts;
+  s.partialGomStarts.swap(*s.gomStarts);
+  s.gomStarts.reset();  // more may arrive
+  return s.partialGomStarts;
 }
 
 void Decoder::seek(int64_t frameNumber) {
-  const StreamInfo& info = s_->info;
+  const StreamInfo& info = this->info();
   const int64_t last = info.firstFrame + info.frameCount - 1;
   if (frameNumber < info.firstFrame || frameNumber > last)
     throw Error(s_->name + ": cannot seek to frame " + std::to_string(frameNumber) +

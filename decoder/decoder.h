@@ -72,6 +72,23 @@ class Decoder {
   static Decoder openFile(const std::string& path, const std::string& name = "");
   static Decoder openMemory(const uint8_t* data, size_t size, const std::string& name = "stream",
                             bool copy = true);
+  // A stream that arrives in pieces (a download; docs/api.md, "Progressive decoding"): give
+  // its bytes to append() as they come and call finish() after the last. The decoder keeps the
+  // bytes (the stream's size). Before finish(), call next() and seek() only when
+  // canDecodeNext() is true, info() only when headerArrived() is.
+  static Decoder openArriving(const std::string& name = "stream");
+  // Arriving streams only. append() copies the bytes; it throws Error when the stream does not
+  // start with "3DVO", and after finish().
+  void append(const uint8_t* data, size_t size);
+  void finish();
+  uint64_t bytesArrived() const;
+  // Whether the sequence header has arrived (or the stream is finished); the first true reads
+  // it, and throws Error when it is malformed. Always true for files and memory.
+  bool headerArrived();
+  // Whether next() needs no byte that has not arrived: the whole GOM of the next frame has (the
+  // next GOM's header, before which the GOM's units lie, is there), or the stream is finished.
+  // Always true for files and memory.
+  bool canDecodeNext();
 
   Decoder(Decoder&&) noexcept;
   Decoder& operator=(Decoder&&) noexcept;
@@ -90,6 +107,11 @@ class Decoder {
   void setMaxVertexFramesPerByte(uint64_t limit);
   void setMaxMeshMemoryPerByte(uint64_t limit);
   void setMaxTexturePixelsPerByte(uint64_t limit);
+  // Hands each frame's texture access units out (DecodedTexture::accessUnits: H.264, Annex B),
+  // for a program that decodes the pictures itself, e.g. the browser player with WebCodecs;
+  // without a picture decoder, the frames' pictures and shapes are then empty. Set it before
+  // the first next(), or seek() after it.
+  void setTextureAccessUnits(bool keep);
 
   // The next frame into `frame` (its buffers are reused); false after the last frame (the
   // stream has then been read to its end and checked for units after the last frame).
@@ -98,7 +120,11 @@ class Decoder {
   // The random access points (GOM starts where decoding can begin), as the input's frame
   // numbers, in order. The first call reads every unit's header and CRC once (no decoding);
   // it does not move the decoding position.
+  // For an arriving stream, before finish(): the random access points among the GOMs whose
+  // headers have arrived so far.
   const std::vector<int64_t>& gomStarts();
+  // "MD5 header=<hex>" (docs/bitstream.md, section 8), as 3dvo-dec prints it after the frames.
+  std::string headerHashLine() const;
 
   // Makes next() return frame `frameNumber` (an input frame number) next: decoding restarts at
   // the random access point at or before it (decoding, without output, what lies between).

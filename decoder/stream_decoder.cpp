@@ -205,6 +205,9 @@ class StreamDecoder::Decoding : public GomUnits {
   GomHeader gh_;
   UnitSource* textureUnits_ = nullptr;  // the GOM's texture units, when pulled with its frames
   UnitView textureUnit_;
+  // With setKeepAccessUnits: per camera, the access units of the frames decoded so far without
+  // output in the GOM (after a seek into it), for its first output frame.
+  std::vector<std::vector<std::vector<uint8_t>>> pendingAccessUnits_;
 
   // Textures.
   std::vector<MaskRenderer> cameras_;
@@ -645,7 +648,8 @@ bool StreamDecoder::Decoding::pull(uint32_t& frame, const IntMesh*& mesh, UnitSo
     }
     startGeometry(gh_);
     textureUnits_ = nullptr;
-    if (!beforeRange && !cameras_.empty() && textureUnits && textures && d_.pictureDecoders_)
+    if (!beforeRange && !cameras_.empty() && textureUnits && textures &&
+        (d_.pictureDecoders_ || d_.keepAccessUnits_))
       startPulledTextures(*textureUnits);
     gomOpen_ = true;
   }
@@ -669,6 +673,7 @@ void StreamDecoder::Decoding::startPulledTextures(UnitSource& textureUnits) {
   }
   textureUnits.seek(textureUnit_.offset, textureUnit_.index);
   textureUnits_ = &textureUnits;
+  pendingAccessUnits_.assign(cameras_.size(), {});
 }
 
 // Frame `frame`'s pictures, one per camera, from the GOM's texture units in order; `positions`
@@ -677,8 +682,8 @@ void StreamDecoder::Decoding::startPulledTextures(UnitSource& textureUnits) {
 // made.
 void StreamDecoder::Decoding::pullTextures(uint32_t frame, const std::vector<Vec3i>& positions,
                                            std::vector<DecodedTexture>& textures, bool output) {
-  Mesh mesh;
-  if (output) {
+  Mesh mesh;  // for the shapes
+  if (output && d_.pictureDecoders_) {
     mesh.positions.reserve(positions.size());
     for (const Vec3i& q : positions)
       mesh.positions.push_back(textureGrid_.dequantise(q));
@@ -689,7 +694,7 @@ void StreamDecoder::Decoding::pullTextures(uint32_t frame, const std::vector<Vec
     expectUnit(
         *textureUnits_, textureUnit_, UnitType::kTexture,
         "for the texture of camera " + std::to_string(c) + ", frame " + std::to_string(frame));
-    const TextureUnit tx = parseUnit<TextureUnit>(textureUnit_, name_, trace_, "the texture");
+    TextureUnit tx = parseUnit<TextureUnit>(textureUnit_, name_, trace_, "the texture");
     const std::string where = name_ + ": " + textureUnit_.describe();
     if (tx.tx_frame != frame || tx.tx_camera != c)
       throw Error(where + ": texture of camera " + std::to_string(tx.tx_camera) + ", frame " +
@@ -699,8 +704,15 @@ void StreamDecoder::Decoding::pullTextures(uint32_t frame, const std::vector<Vec
     DecodedTexture& t = textures[c];
     t.camera = static_cast<int>(c);
     t.box = textureBox(sh_.cameras[c]);
-    t.picture = decodePicture(c, tx, where);
-    if (output) t.shape = textureShape(mesh, cameras_[c]);
+    t.picture = d_.pictureDecoders_ ? decodePicture(c, tx, where) : YuvPicture();
+    t.shape = output && d_.pictureDecoders_ ? textureShape(mesh, cameras_[c]) : Image();
+    t.accessUnits.clear();
+    if (d_.keepAccessUnits_) {
+      // Frames before the range keep theirs for the first output frame, which depends on them.
+      std::vector<std::vector<uint8_t>>& pending = pendingAccessUnits_[c];
+      pending.push_back(std::move(tx.tx_access_unit));
+      if (output) t.accessUnits.swap(pending);
+    }
   }
 }
 

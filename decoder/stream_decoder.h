@@ -58,8 +58,13 @@ using TextureCallback =
 struct DecodedTexture {
   int camera = 0;
   TextureBox box;      // where the picture lies in the camera frame (pixels, top-left)
-  YuvPicture picture;  // 4:2:0, box.width x box.height
+  YuvPicture picture;  // 4:2:0, box.width x box.height (with a picture decoder)
   Image shape;         // the object's mask in the whole camera frame (255 inside), from the mesh
+  // With setKeepAccessUnits: the H.264 access units (tx_access_unit, Annex B) to give the
+  // camera's picture decoder before this frame is shown: the frame's own, last, after those of
+  // the frames of its GOM that were decoded without output (after a seek into a GOM, the GOM's
+  // earlier pictures, from its IDR on, which this one is predicted from).
+  std::vector<std::vector<uint8_t>> accessUnits;
 };
 
 class StreamDecoder {
@@ -103,7 +108,8 @@ class StreamDecoder {
   // header. Frames are made one at a time as they are asked for (memory: one frame, whatever
   // the GOM's length). With `textureUnits` (a second source over the same stream: a
   // UnitReader or UnitFileReader of the same bytes, moved with UnitSource::seek) and a picture
-  // decoder, `textures` receives each frame's pictures, one per camera: the second source reads
+  // decoder (or setKeepAccessUnits), `textures` receives each frame's pictures (or access
+  // units), one per camera: the second source reads
   // a GOM's texture units while the first reads its geometry. Without them a stream's texture
   // units are read and checked, not decoded. Not to be mixed with decode() on one object.
   bool pullFrame(uint32_t& frame, const IntMesh*& mesh, UnitSource* textureUnits = nullptr,
@@ -118,6 +124,10 @@ class StreamDecoder {
   // units are read and not decoded, and decode() throws an Error if it was given a texture
   // callback for a stream with textures.
   void setPictureDecoder(PictureDecoderFactory factory) { pictureDecoders_ = std::move(factory); }
+  // Pull-style: hands each frame's texture access units out (DecodedTexture::accessUnits), for
+  // a caller that decodes the pictures itself (the browser's H.264 decoder); with no picture
+  // decoder set, pictures and shapes are then left empty.
+  void setKeepAccessUnits(bool keep) { keepAccessUnits_ = keep; }
   // Sets the decoding-work limit (kDefaultMaxVertexFramesPerByte above); 0 lifts it.
   void setMaxVertexFramesPerByte(uint64_t limit) { maxVertexFramesPerByte_ = limit; }
   // Sets the texture-work limit (kDefaultMaxTexturePixelsPerByte above); 0 lifts it.
@@ -158,6 +168,7 @@ class StreamDecoder {
   int64_t rangeFirst_ = -1, rangeCount_ = 0;  // setFrameRange; -1: from the stream's first
   int threads_ = 1;
   PictureDecoderFactory pictureDecoders_;
+  bool keepAccessUnits_ = false;
 };
 
 // Grid defined by a sequence header.

@@ -1,8 +1,9 @@
 // Fuzz target: the whole-stream decoder (StreamDecoder), from the sequence header to the last
 // frame, through I meshes (Draco), P meshes (both modes) and keyframe interpolation; and,
 // differentially, the pull-style public decoder (tdvo::Decoder, decoder/decoder.h) on the same
-// stream, geometry only: it must give the same frames and, where the push-style decoder
-// refuses the stream, the same error message (anything else aborts: a finding).
+// stream, geometry only, given whole and arriving in pieces (openArriving): both must give the
+// same frames and, where the push-style decoder refuses the stream, the same error message
+// (anything else aborts: a finding).
 //
 // The input is a .3dvo stream; unit CRCs are repaired first (fuzz_support.h), so that mutated
 // payloads reach the parsers instead of the CRC check. Seeds: the conformance streams.
@@ -68,27 +69,46 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   } catch (const tdvo::Error& e) {
     push.error = e.what();
   }
-  vertexFrames = 0;
+  // Pull-style: the stream in memory, and arriving in pieces of 1 to 61 bytes (frames decoded
+  // as soon as canDecodeNext() allows).
+  const auto pullFrames = [&](tdvo::Decoder& decoder, Outcome& out) {
+    vertexFrames = 0;
+    tdvo::DecodedFrame frame;
+    while (decoder.canDecodeNext() && decoder.next(frame)) {
+      vertexFrames += frame.mesh.positions.size() + 1;
+      if (vertexFrames > kVertexFrameBudget) throw tdvo::Error(kBudget);
+      out.lines.push_back(tdvo::geometryHashLine(static_cast<int>(frame.index), frame.mesh));
+    }
+  };
   try {
     tdvo::Decoder decoder =
         tdvo::Decoder::openMemory(stream.data(), stream.size(), "fuzz.3dvo", false);
-    tdvo::DecodedFrame frame;
-    while (decoder.next(frame)) {
-      vertexFrames += frame.mesh.positions.size() + 1;
-      if (vertexFrames > kVertexFrameBudget) throw tdvo::Error(kBudget);
-      pull.lines.push_back(tdvo::geometryHashLine(static_cast<int>(frame.index), frame.mesh));
-    }
+    pullFrames(decoder, pull);
   } catch (const tdvo::Error& e) {
     pull.error = e.what();
   }
-  const size_t common = std::min(push.lines.size(), pull.lines.size());
-  for (size_t k = 0; k < common; ++k)
-    if (push.lines[k] != pull.lines[k]) mismatch("a frame", push.lines[k], pull.lines[k]);
-  if (push.error != kBudget && pull.error != kBudget) {
-    if (push.lines.size() != pull.lines.size())
-      mismatch("the frame count", std::to_string(push.lines.size()),
-               std::to_string(pull.lines.size()));
-    if (push.error != pull.error) mismatch("the error", push.error, pull.error);
+  Outcome arriving;
+  try {
+    tdvo::Decoder decoder = tdvo::Decoder::openArriving("fuzz.3dvo");
+    for (size_t at = 0, piece = 1 + size % 61; at < stream.size(); at += piece) {
+      decoder.append(stream.data() + at, std::min(piece, stream.size() - at));
+      pullFrames(decoder, arriving);
+    }
+    decoder.finish();
+    pullFrames(decoder, arriving);
+  } catch (const tdvo::Error& e) {
+    arriving.error = e.what();
+  }
+  for (const Outcome* other : {&pull, &arriving}) {
+    const size_t common = std::min(push.lines.size(), other->lines.size());
+    for (size_t k = 0; k < common; ++k)
+      if (push.lines[k] != other->lines[k]) mismatch("a frame", push.lines[k], other->lines[k]);
+    if (push.error != kBudget && other->error != kBudget) {
+      if (push.lines.size() != other->lines.size())
+        mismatch("the frame count", std::to_string(push.lines.size()),
+                 std::to_string(other->lines.size()));
+      if (push.error != other->error) mismatch("the error", push.error, other->error);
+    }
   }
   return 0;
 }

@@ -235,6 +235,157 @@ TEST(DecoderApi, OpenErrorsNameTheStream) {
   }
 }
 
+// Texture lines from a frame's access units, decoded here with one H.264 decoder per camera (as
+// a program that decodes pictures itself, e.g. the browser player, does).
+struct AccessUnitPictures {
+  std::vector<std::unique_ptr<PictureDecoder>> cameras;
+  void add(const DecodedFrame& frame, std::vector<std::string>& lines) {
+    cameras.resize(frame.textures.size());
+    for (const DecodedTexture& t : frame.textures) {
+      EXPECT_TRUE(t.picture.y.empty());  // no picture decoder: pictures are the caller's
+      ASSERT_FALSE(t.accessUnits.empty());
+      auto& decoder = cameras[static_cast<size_t>(t.camera)];
+      if (!decoder) decoder = makeH264Decoder("camera " + std::to_string(t.camera));
+      YuvPicture picture;
+      for (const std::vector<uint8_t>& unit : t.accessUnits)
+        picture = decoder->decode(unit, t.box.width, t.box.height);
+      lines.push_back(textureHashLine(static_cast<int>(frame.number), t.camera, picture));
+    }
+  }
+};
+
+// A stream given in pieces as it arrives (openArriving) gives every conformance stream's MD5
+// lines, its texture lines from the access units the frames carry; frames come as soon as their
+// GOM has arrived, before the stream's end.
+TEST(DecoderApi, ArrivingStreamGivesItsFramesAsTheyArrive) {
+  for (const std::string& name : conformanceStreams()) {
+    SCOPED_TRACE(name);
+    const std::vector<uint8_t> bytes = readBytes(streamPath(name));
+    Decoder decoder = Decoder::openArriving(name);
+    decoder.setTextureAccessUnits(true);
+    EXPECT_FALSE(decoder.headerArrived());
+    EXPECT_FALSE(decoder.canDecodeNext());
+    EXPECT_THROW(decoder.info(), Error);
+    Pulled got;
+    AccessUnitPictures pictures;
+    DecodedFrame frame;
+    size_t given = 0, framesBeforeTheEnd = 0;
+    std::vector<int64_t> startsBeforeTheEnd;
+    for (size_t piece = 1; given < bytes.size(); piece = piece * 7 % 997 + 1) {
+      const size_t n = std::min(piece, bytes.size() - given);
+      decoder.append(bytes.data() + given, n);
+      given += n;
+      EXPECT_EQ(decoder.bytesArrived(), given);
+      while (decoder.canDecodeNext()) {
+        ASSERT_TRUE(decoder.next(frame));
+        got.geometry.push_back(frame.geometryHashLine());
+        pictures.add(frame, got.texture);
+        ++framesBeforeTheEnd;
+      }
+      if (decoder.headerArrived()) startsBeforeTheEnd = decoder.gomStarts();
+    }
+    decoder.finish();
+    while (decoder.next(frame)) {
+      got.geometry.push_back(frame.geometryHashLine());
+      pictures.add(frame, got.texture);
+    }
+    EXPECT_EQ(got.geometry, logLines(name, "geometry="));
+    EXPECT_EQ(got.texture, logLines(name, " texture "));
+    const Decoder whole = Decoder::openFile(streamPath(name));
+    Decoder wholeStarts = Decoder::openFile(streamPath(name));
+    EXPECT_EQ(decoder.gomStarts(), wholeStarts.gomStarts());
+    EXPECT_EQ(decoder.headerHashLine(), whole.headerHashLine());
+    // Every GOM but the last can be decoded before the end has arrived.
+    if (wholeStarts.gomStarts().size() > 1) {
+      EXPECT_GT(framesBeforeTheEnd, 0u);
+      EXPECT_EQ(startsBeforeTheEnd, wholeStarts.gomStarts());
+    }
+  }
+}
+
+// A seek into a GOM hands out, with the first frame, the access units of the GOM's earlier
+// frames (from the IDR picture on): decoding them in order gives the frame's picture.
+TEST(DecoderApi, AccessUnitsAfterASeekIntoAGom) {
+  const std::string name = "texture_bbox_mb128_g3";
+  Decoder decoder = Decoder::openFile(streamPath(name));
+  decoder.setTextureAccessUnits(true);
+  const std::vector<std::string> want = logLines(name, " texture ");
+  const int64_t first = decoder.info().firstFrame;
+  const size_t cameras = decoder.info().cameras.size();
+  ASSERT_GT(cameras, 0u);
+  decoder.seek(first + 2);  // the GOMs are 3 frames long
+  DecodedFrame frame;
+  ASSERT_TRUE(decoder.next(frame));
+  ASSERT_EQ(frame.textures.size(), cameras);
+  EXPECT_EQ(frame.textures[0].accessUnits.size(), 3u);
+  std::vector<std::string> got;
+  AccessUnitPictures pictures;
+  pictures.add(frame, got);
+  EXPECT_EQ(got, std::vector<std::string>(want.begin() + 2 * static_cast<std::ptrdiff_t>(cameras),
+                                          want.begin() + 3 * static_cast<std::ptrdiff_t>(cameras)));
+  ASSERT_TRUE(decoder.next(frame));
+  EXPECT_EQ(frame.textures[0].accessUnits.size(), 1u);
+}
+
+// An arriving stream: next() before its frame has arrived is an error that leaves the decoder
+// usable; a stream cut short, or corrupted, gives after finish() the errors openMemory gives.
+TEST(DecoderApi, ArrivingStreamErrors) {
+  const std::string name = "d3dmc_lossless_g8";
+  const std::vector<uint8_t> good = readBytes(streamPath(name));
+  {
+    Decoder decoder = Decoder::openArriving(name);
+    decoder.append(good.data(), good.size() / 2);
+    DecodedFrame frame;
+    while (decoder.canDecodeNext())
+      ASSERT_TRUE(decoder.next(frame));
+    try {
+      decoder.next(frame);
+      FAIL() << "no error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("has not arrived yet"), std::string::npos) << e.what();
+    }
+    decoder.append(good.data() + good.size() / 2, good.size() - good.size() / 2);
+    decoder.finish();
+    size_t rest = 0;
+    while (decoder.next(frame))
+      ++rest;
+    EXPECT_GT(rest, 0u);
+    EXPECT_THROW(decoder.append(good.data(), 1), Error);
+  }
+  std::vector<std::vector<uint8_t>> bad;
+  bad.emplace_back(good.begin(), good.end() - 40);           // cut in the last P mesh
+  bad.emplace_back(good.begin(), good.begin() + 30);         // cut in the header
+  bad.emplace_back(good.begin(), good.begin() + 2);          // not even the magic
+  bad.push_back(good), bad.back()[good.size() / 3] ^= 0x10;  // a flipped bit
+  bad.push_back(good), bad.back()[0] = 'X';                  // not a 3DVO stream
+  bad.push_back(good), bad.back().push_back(0);              // a byte after the end
+  for (const std::vector<uint8_t>& bytes : bad) {
+    std::string want, got;
+    try {
+      Decoder whole = Decoder::openMemory(bytes.data(), bytes.size(), name);
+      pullAll(whole);
+    } catch (const Error& e) {
+      want = e.what();
+    }
+    try {
+      Decoder decoder = Decoder::openArriving(name);
+      DecodedFrame frame;
+      for (size_t at = 0; at < bytes.size(); at += 100) {
+        decoder.append(bytes.data() + at, std::min<size_t>(100, bytes.size() - at));
+        while (decoder.canDecodeNext())
+          decoder.next(frame);
+      }
+      decoder.finish();
+      while (decoder.next(frame)) {
+      }
+    } catch (const Error& e) {
+      got = e.what();
+    }
+    ASSERT_FALSE(want.empty());
+    EXPECT_EQ(got, want);
+  }
+}
+
 // tdvo::Encoder with frames from memory makes the very stream (and MD5 lines) 3dvo-enc made from
 // the files, for every conformance cfg (textured ones included).
 TEST(EncoderApi, FramesFromMemoryGiveTheConformanceStreams) {

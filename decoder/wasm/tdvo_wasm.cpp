@@ -1,7 +1,9 @@
-// The WebAssembly module's JavaScript interface (docs/wasm.md): tdvo::Decoder through embind,
-// geometry only. Frame data are views into the module's memory, valid until the next call that
-// decodes (next, seek) or the decoder's delete(); errors are JavaScript Errors whose message is
-// tdvo::Error's, the message 3dvo-dec prints after "3dvo-dec: error: ".
+// The WebAssembly module's JavaScript interface (docs/wasm.md): tdvo::Decoder through embind:
+// geometry, and the texture access units for the browser's own H.264 decoder (WebCodecs). A
+// stream is given whole or as it arrives (Decoder.growing). Frame data are views into the
+// module's memory, valid until the next call that decodes (next, seek), appends, or the
+// decoder's delete(); errors are JavaScript Errors whose message is tdvo::Error's, the message
+// 3dvo-dec prints after "3dvo-dec: error: ".
 #include <emscripten/bind.h>
 #include <emscripten/val.h>
 
@@ -10,6 +12,8 @@
 #include <utility>
 
 #include "common/core/error.h"
+#include "common/core/md5.h"
+#include "common/views/yuv_picture.h"
 #include "decoder/decoder.h"
 
 namespace tdvo {
@@ -30,18 +34,73 @@ auto rethrowAsJs(F&& f) -> decltype(f()) {
   emscripten::val::global("Error").new_(emscripten::val(message.c_str())).throw_();
 }
 
+template <class T>
+emscripten::val array(const T* values, size_t count) {
+  emscripten::val out = emscripten::val::array();
+  for (size_t k = 0; k < count; ++k)
+    out.call<void>("push", static_cast<double>(values[k]));
+  return out;
+}
+
+// A byte string of JavaScript (Uint8Array or ArrayBuffer; embind copies it) as bytes.
+const uint8_t* bytesOf(const std::string& bytes) {
+  return reinterpret_cast<const uint8_t*>(bytes.data());
+}
+
+emscripten::val cameraObject(const CameraParameters& c) {
+  emscripten::val out = emscripten::val::object();
+  out.set("name", c.cam_name);
+  out.set("width", c.cam_width);
+  out.set("height", c.cam_height);
+  out.set("fx", c.cam_fx);
+  out.set("fy", c.cam_fy);
+  out.set("cx", c.cam_cx);
+  out.set("cy", c.cam_cy);
+  const double distortion[5] = {c.cam_k1, c.cam_k2, c.cam_p1, c.cam_p2, c.cam_k3};
+  out.set("distortion", array(distortion, 5));
+  out.set("R", array(c.cam_rotation, 9));
+  out.set("t", array(c.cam_translation, 3));
+  emscripten::val box = emscripten::val::object();
+  box.set("x", c.tx_box_x);
+  box.set("y", c.tx_box_y);
+  box.set("width", c.tx_box_width);
+  box.set("height", c.tx_box_height);
+  out.set("box", box);
+  return out;
+}
+
 class WasmDecoder {
  public:
-  // `bytes`: the stream (a Uint8Array or ArrayBuffer from JavaScript); `name` prefixes errors.
+  // `bytes`: the whole stream (a Uint8Array or ArrayBuffer from JavaScript); `name` prefixes
+  // errors.
   WasmDecoder(const std::string& bytes, const std::string& name)
-      : decoder_(rethrowAsJs([&] {
-          return Decoder::openMemory(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(),
-                                     name, true);
-        })) {}
+      : decoder_(rethrowAsJs(
+            [&] { return Decoder::openMemory(bytesOf(bytes), bytes.size(), name, true); })) {}
+  explicit WasmDecoder(Decoder decoder) : decoder_(std::move(decoder)) {}
 
-  // {syntaxVersion, firstFrame, frameCount, frameRate, cameraCount, grid: {origin, step, bits}}
+  // Decoder.growing(name): a stream whose bytes arrive by append() and end with finish()
+  // (tdvo::Decoder::openArriving). The caller delete()s it.
+  static WasmDecoder* growing(const std::string& name) {
+    return new WasmDecoder(Decoder::openArriving(name));
+  }
+  void append(const std::string& bytes) {
+    rethrowAsJs([&] { decoder_.append(bytesOf(bytes), bytes.size()); });
+  }
+  void finish() {
+    rethrowAsJs([&] { decoder_.finish(); });
+  }
+  double bytesReceived() const { return static_cast<double>(decoder_.bytesArrived()); }
+  bool headerReady() {
+    return rethrowAsJs([&] { return decoder_.headerArrived(); });
+  }
+  bool canDecodeNext() {
+    return rethrowAsJs([&] { return decoder_.canDecodeNext(); });
+  }
+
+  // {syntaxVersion, firstFrame, frameCount, frameRate, cameraCount, grid: {origin, step, bits},
+  //  cameras: [{name, width, height, fx, fy, cx, cy, distortion, R, t, box}], description, up}
   emscripten::val info() const {
-    const StreamInfo& i = decoder_.info();
+    const StreamInfo& i = rethrowAsJs([&]() -> const StreamInfo& { return decoder_.info(); });
     emscripten::val grid = emscripten::val::object();
     emscripten::val origin = emscripten::val::array();
     for (double o : i.grid.origin)
@@ -56,8 +115,17 @@ class WasmDecoder {
     out.set("frameRate", i.frameRate);
     out.set("cameraCount", static_cast<unsigned>(i.cameras.size()));
     out.set("grid", grid);
+    emscripten::val cameras = emscripten::val::array();
+    for (const CameraParameters& c : i.cameras)
+      cameras.call<void>("push", cameraObject(c));
+    out.set("cameras", cameras);
+    out.set("description", i.description);
+    out.set("up", i.upPresent ? array(i.up.data(), 3) : emscripten::val::null());
     return out;
   }
+
+  // Frames then carry their texture access units (textureUnits); before the first next().
+  void setTextureUnits(bool keep) { decoder_.setTextureAccessUnits(keep); }
 
   // Decodes the next frame; false after the last one.
   bool next() {
@@ -90,6 +158,52 @@ class WasmDecoder {
   // "MD5 frame=<n> geometry=<hex>", the line 3dvo-dec prints.
   std::string geometryHashLine() const { return frame_.geometryHashLine(); }
 
+  // With setTextureUnits(true): camera c's H.264 access units (Annex B) to decode before this
+  // frame is shown, an Array of Uint8Array views: the frame's own, last (after a seek into a
+  // GOM, the GOM's earlier ones before it, from its IDR picture on).
+  emscripten::val textureUnits(unsigned camera) const {
+    emscripten::val out = emscripten::val::array();
+    if (camera < frame_.textures.size())
+      for (const std::vector<uint8_t>& unit : frame_.textures[camera].accessUnits)
+        out.call<void>("push", emscripten::val(emscripten::typed_memory_view(
+                                   unit.size(), unit.empty() ? nullptr : unit.data())));
+    return out;
+  }
+  // The frame's own access unit of camera c (the last of textureUnits(c)), a Uint8Array view.
+  emscripten::val textureUnit(unsigned camera) const {
+    if (camera >= frame_.textures.size() || frame_.textures[camera].accessUnits.empty())
+      return emscripten::val::null();
+    const std::vector<uint8_t>& unit = frame_.textures[camera].accessUnits.back();
+    return emscripten::val(emscripten::typed_memory_view(unit.size(), unit.data()));
+  }
+  // "MD5 frame=<n> texture cam=<c> <hex>", the line 3dvo-dec prints, for camera c's picture of
+  // frame n (an input frame number) decoded elsewhere: `i420` its Y, U and V planes, tightly
+  // packed (the texture box's size).
+  std::string textureHashLine(double frameNumber, unsigned camera, const std::string& i420) const {
+    return rethrowAsJs([&] {
+      const StreamInfo& i = decoder_.info();
+      if (camera >= i.cameras.size())
+        throw Error("textureHashLine: no camera " + std::to_string(camera));
+      const CameraParameters& c = i.cameras[camera];
+      YuvPicture picture(c.tx_box_width, c.tx_box_height);
+      const size_t luma = picture.y.size(), chroma = picture.u.size();
+      if (i420.size() != luma + 2 * chroma)
+        throw Error("textureHashLine: " + std::to_string(i420.size()) + " bytes for a " +
+                    std::to_string(c.tx_box_width) + "x" + std::to_string(c.tx_box_height) +
+                    " picture of " + std::to_string(luma + 2 * chroma));
+      const uint8_t* p = bytesOf(i420);
+      picture.y.assign(p, p + luma);
+      picture.u.assign(p + luma, p + luma + chroma);
+      picture.v.assign(p + luma + chroma, p + luma + 2 * chroma);
+      return tdvo::textureHashLine(static_cast<int>(frameNumber), static_cast<int>(camera),
+                                   picture);
+    });
+  }
+  // "MD5 header=<hex>", the line 3dvo-dec prints after the frames.
+  std::string headerHashLine() const {
+    return rethrowAsJs([&] { return decoder_.headerHashLine(); });
+  }
+
   // The random access points (input frame numbers), an Array of numbers.
   emscripten::val gomStarts() {
     return rethrowAsJs([&] {
@@ -109,9 +223,28 @@ class WasmDecoder {
   DecodedFrame frame_;
 };
 
+// md5Hex(bytes): the MD5 of a byte string, 32 lowercase hex digits.
+std::string md5Hex(const std::string& bytes) {
+  Md5 md5;
+  md5.update(bytes.data(), bytes.size());
+  return toHex(md5.finish());
+}
+
 EMSCRIPTEN_BINDINGS(tdvo) {
+  emscripten::function("md5Hex", &md5Hex);
   emscripten::class_<WasmDecoder>("Decoder")
       .constructor<const std::string&, const std::string&>()
+      .class_function("growing", &WasmDecoder::growing, emscripten::allow_raw_pointers())
+      .function("append", &WasmDecoder::append)
+      .function("finish", &WasmDecoder::finish)
+      .function("bytesReceived", &WasmDecoder::bytesReceived)
+      .function("headerReady", &WasmDecoder::headerReady)
+      .function("canDecodeNext", &WasmDecoder::canDecodeNext)
+      .function("setTextureUnits", &WasmDecoder::setTextureUnits)
+      .function("textureUnits", &WasmDecoder::textureUnits)
+      .function("textureUnit", &WasmDecoder::textureUnit)
+      .function("textureHashLine", &WasmDecoder::textureHashLine)
+      .function("headerHashLine", &WasmDecoder::headerHashLine)
       .function("info", &WasmDecoder::info)
       .function("next", &WasmDecoder::next)
       .function("frameNumber", &WasmDecoder::frameNumber)
