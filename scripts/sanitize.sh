@@ -9,7 +9,12 @@
 #
 #   TDVO_SANITIZE_EXCLUDE   ctest -E regex of tests left out; default: the four real-data
 #                           reconstruction acceptance tests (15 minutes of CI's 2 cores under
-#                           the sanitizers). Set it empty to run the complete suite.
+#                           the sanitizers), and tests whose apps other tests run under the
+#                           sanitizers on the same inputs while they add minutes (rd_dask_test:
+#                           rd_runner_test's sweep through Dask; rd_texture_test; Demo: the
+#                           demo script) or whose own code is not instrumented (the browser
+#                           tests: JavaScript and WebAssembly). Set it empty to run the complete
+#                           suite.
 #   TDVO_SANITIZE_BUILD_DIR build folder (default build-asan)
 #   TDVO_SANITIZE_BUILD_TYPE CMake build type (default RelWithDebInfo; Debug gives -O0)
 set -euo pipefail
@@ -24,5 +29,6 @@ cmake --build "$build" -j "$jobs"
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}"
 # Unset: the default; set but empty: nothing excluded (ctest -E "" would exclude everything).
-exclude="${TDVO_SANITIZE_EXCLUDE-^(ReconTvmc|ReconUu4cam|ReconDino|ReconSynth)[.]}"
+default_exclude='^((ReconTvmc|ReconUu4cam|ReconDino|ReconSynth|Demo)[.]|rd_dask_test$|rd_texture_test$|player_browser_test$|wasm_browser_test$)'
+exclude="${TDVO_SANITIZE_EXCLUDE-$default_exclude}"
 ctest --test-dir "$build" --output-on-failure -j "$jobs" ${exclude:+-E "$exclude"}
