@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Sets everything up, then runs the main job on the bundled default: a textured 3D video object
 # (the deforming blob of 3dvo-synth, filmed by 8 cameras) is encoded with cfg/sample.cfg,
-# decoded (mesh frames, camera images, hashes checked against the encoder's), and shown: one
-# free-viewpoint views rendered to PNG, and the command that plays it in a browser (3dvo-play).
+# decoded (mesh frames, camera images, hashes checked against the encoder's), and shown: 16
+# free-viewpoint views of one frame rendered to PNG, and the command that plays the stream in a
+# browser (3dvo-play: the page decodes it, with the WebAssembly decoder that scripts/wasm.sh
+# builds; the demo does not build it, as that takes about 10 minutes, but says so when missing).
 #
 # TDVO_DEMO_OUT (default demo-output) is the output folder; TDVO_DEMO_SKIP_SETUP=1 skips the
 # setup and TDVO_BIN_DIR (default build/bin) names the apps (the test of this script, ctest
@@ -28,7 +30,17 @@ echo "demo: input (cameras + meshes) $out/rig/"
 echo "demo: stream                   $out/sample.3dvo ($(stat -c %s "$out/sample.3dvo") bytes)"
 echo "demo: decoded                  $out/decoded/ (OBJ frames, one PNG folder per camera," \
   "dataset.json), hashes checked against the encoder's"
-echo "demo: free views of frame 12  $out/view/0000.png .. 0015.png (rendered from the decoded" \
-  "object; 0001.png lies between two cameras)"
-echo "demo: play it in a browser     $bin/3dvo-play $out/sample.3dvo   (serves the web player on" \
-  "127.0.0.1 and prints its URL; Ctrl-C stops it)"
+echo "demo: free views of frame 12  $(realpath "$out/view")/0000.png .. 0015.png (rendered from" \
+  "the decoded object; 0001.png lies between two cameras)"
+# The web player of this build (build/player), and whether it holds the WebAssembly decoder.
+build="$(realpath "$bin/..")"
+if [ ! -x "$bin/3dvo-play" ]; then
+  echo "demo: no web player in this build (it needs node and npm: docs/rendering.md)"
+  exit 0
+fi
+if [ ! -f "$build/player/wasm/tdvo_decoder.wasm" ]; then
+  echo "demo: the web player needs the WebAssembly decoder, not built yet (about 10 minutes):"
+  echo "      bash $PWD/scripts/wasm.sh && cmake --build $build"
+fi
+echo "demo: play it in a browser     $(realpath "$bin/3dvo-play") $(realpath "$out/sample.3dvo")"
+echo "      (serves the page and the stream on 127.0.0.1 and prints the URL to open; Ctrl-C stops)"
