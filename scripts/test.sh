@@ -8,4 +8,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/wasm.sh
+cmake --build build --target player_wasm  # the module into build/player/wasm/ for the page's tests
 ctest --test-dir build --output-on-failure -j "$(nproc)"
