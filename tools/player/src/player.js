@@ -1,104 +1,142 @@
-// The 3DVO web player: plays the folder `3dvo-render --Mode=export` writes (scene.json, a
-// binary mesh and an RGBA texture atlas per frame) with the view-dependent texture weights of
-// the CPU renderer, computed per fragment in a shader (src/shaders.js). docs/rendering.md.
+// The 3DVO web player: plays a .3dvo stream itself. Bytes come from a streaming fetch (or a
+// local file); the geometry is decoded by the project's WebAssembly decoder (./wasm/, docs/wasm.md),
+// each camera's texture by the browser's H.264 decoder (WebCodecs, src/textures.js), and the
+// frame is drawn with the view-dependent texture weights of the CPU renderer, computed per
+// fragment (src/shaders.js). Playing starts once the first GOM has arrived. docs/rendering.md,
+// "The web player".
 //
 // URL parameters (all optional):
-//   data=URL          the exported folder (default: data/)
-//   camera=NAME       start at this dataset camera's pose and intrinsics, the canvas at its size
-//   frame=N           start at frame N (default 0)
+//   stream=URL        the .3dvo to play (else: drop a file on the page or choose one)
+//   camera=NAME       start at this camera's pose and intrinsics, the canvas at its size
+//   frame=N           start at stream frame N (from 0; decoded from the GOM start before it)
 //   play=1            start playing
+//   path=0            no automatic camera path
 //   direction=ray|axis, sharpness=K, tolerance=T, fallback=nearest|colour
-//                     override the weighting options stored in scene.json
+//                     weighting options (defaults as tools/render/view_renderer.h RenderOptions)
 //   exclude=NAME,...  cameras whose textures are not used (leave-one-out views)
+//   md5=1             hash every decoded frame as 3dvo-dec does (md5Lines()) and play the stream
+//                     once through as fast as it decodes
 //
-// window.tdvoPlayer is the page's test interface: state ('loading' | 'ready' | 'error'),
-// error, frame, playing, setFrame(n), play(), pause(), viewFromCamera(name), orbit(degrees),
-// capture() → {width, height, rgba: base64}.
+// window.tdvoPlayer is the page's test interface: state ('loading' | 'ready' | 'error'), error,
+// info (the stream's), frame (stream frame index), playing, setFrame(n), seekGom(n), play(),
+// pause(), viewFromCamera(name), orbit(degrees), capture() → {width, height, rgba: base64},
+// md5Lines(), timing.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { cameraCentre, setIntrinsics, setPose } from './camera_math.js';
-import { blendFragment, blendVertex, depthFragment, depthVertex } from './shaders.js';
+import { blendFragment, blendVertex, convertFragment, convertVertex, depthFragment, depthVertex }
+  from './shaders.js';
+import { FrameStream, readInto } from './stream.js';
+import { upDirection, ViewPath } from './view_path.js';
 
 const params = new URLSearchParams(window.location.search);
-const api = { state: 'loading', error: '', frame: 0, playing: false };
+const api = { state: 'loading', error: '', frame: 0, playing: false, info: null,
+              md5Lines: () => [], timing: {} };
 window.tdvoPlayer = api;
 
 const statusLine = document.getElementById('status');
-function fail(message) {
+function fail(error) {
+  const message = error instanceof Error ? error.message : String(error);
+  if (api.state === 'error') return;  // the first error is the one to show
   api.state = 'error';
-  api.error = String(message);
+  api.error = message;
   statusLine.textContent = 'error: ' + message;
+  statusLine.classList.add('error');
   console.error(message);
 }
 
-function framePath(pattern, n) {
-  return pattern.replace(/%0?(\d*)d/, (_, width) => String(n).padStart(Number(width || 0), '0'));
-}
-
-async function fetchOk(url) {
-  const response = await fetch(url);
-  if (!response.ok) throw new Error(`${url}: HTTP ${response.status}`);
-  return response;
-}
-
-// One frame's mesh (binary layout in tools/render/player_export.h) and texture atlas.
-async function loadFrame(base, scene, n) {
-  const [meshBuffer, atlasBlob] = await Promise.all([
-    fetchOk(base + framePath(scene.meshes, n)).then((r) => r.arrayBuffer()),
-    fetchOk(base + framePath(scene.textures, n)).then((r) => r.blob()),
-  ]);
-  const header = new DataView(meshBuffer, 0, 8);
-  const vertices = header.getUint32(0, true), triangles = header.getUint32(4, true);
-  if (meshBuffer.byteLength !== 8 + 12 * (vertices + triangles))
-    throw new Error(`mesh of frame ${n}: size does not match its header`);
-  const geometry = new THREE.BufferGeometry();
-  geometry.setAttribute('position',
-                        new THREE.BufferAttribute(new Float32Array(meshBuffer, 8, 3 * vertices), 3));
-  geometry.setIndex(new THREE.BufferAttribute(
-      new Uint32Array(meshBuffer, 8 + 12 * vertices, 3 * triangles), 1));
-  geometry.computeBoundingSphere();
-  // Decoded as stored: no colour-space conversion, no premultiplication (alpha is the mask).
-  const bitmap = await createImageBitmap(
-      atlasBlob, { premultiplyAlpha: 'none', colorSpaceConversion: 'none', imageOrientation: 'none' });
-  if (bitmap.width !== scene.atlas.width || bitmap.height !== scene.atlas.height)
-    throw new Error(`texture atlas of frame ${n}: ${bitmap.width}x${bitmap.height}, ` +
-                    `scene.json says ${scene.atlas.width}x${scene.atlas.height}`);
-  const atlas = new THREE.Texture(bitmap);
-  atlas.flipY = false;
-  atlas.premultiplyAlpha = false;
-  atlas.colorSpace = THREE.NoColorSpace;
-  atlas.generateMipmaps = false;
-  atlas.minFilter = atlas.magFilter = THREE.NearestFilter;
-  atlas.needsUpdate = true;
-  return { geometry, atlas };
+// The module, or one clear error.
+async function loadDecoder() {
+  const url = new URL('wasm/tdvo_decoder.js', document.baseURI).href;
+  let create;
+  try {
+    create = (await import(url)).default;
+  } catch (e) {
+    throw new Error(`the WebAssembly decoder (${url}) cannot be loaded: ${e.message}`);
+  }
+  return create();
 }
 
 // Per-camera parameters as a float texture (layout in src/shaders.js).
 function cameraTexture(cameras) {
-  const data = new Float32Array(cameras.length * 8 * 4);
+  const data = new Float32Array(Math.max(1, cameras.length) * 8 * 4);
   cameras.forEach((c, i) => {
     const o = i * 32;
-    for (let r = 0; r < 3; ++r) data.set([...c.R[r], c.t[r]], o + 4 * r);
+    for (let r = 0; r < 3; ++r) data.set([...c.R.slice(3 * r, 3 * r + 3), c.t[r]], o + 4 * r);
     data.set([c.fx, c.fy, c.cx, c.cy], o + 12);
     data.set(c.distortion.slice(0, 4), o + 16);
     data.set([c.distortion[4], c.width, c.height, 0], o + 20);
-    data.set([c.atlasX, c.atlasY, 0, 0], o + 24);
-    data.set([...cameraCentre(c.R, c.t), 0], o + 28);
+    data.set([c.box.x, c.box.y, c.box.width, c.box.height], o + 24);
+    data.set([...cameraCentre(rows(c.R), c.t), 0], o + 28);
   });
-  const texture = new THREE.DataTexture(data, 8, cameras.length, THREE.RGBAFormat, THREE.FloatType);
+  const texture = new THREE.DataTexture(data, 8, Math.max(1, cameras.length), THREE.RGBAFormat,
+                                        THREE.FloatType);
   texture.minFilter = texture.magFilter = THREE.NearestFilter;
   texture.needsUpdate = true;
   return texture;
 }
 
+function rows(R) { return [R.slice(0, 3), R.slice(3, 6), R.slice(6, 9)]; }
+
+// One plane of every camera's box as a single-channel array texture, a layer per camera.
+function planeTexture(width, height, layers) {
+  const t = new THREE.DataArrayTexture(new Uint8Array(width * height * layers), width, height, layers);
+  t.format = THREE.RedFormat;
+  t.type = THREE.UnsignedByteType;
+  t.minFilter = t.magFilter = THREE.NearestFilter;
+  t.generateMipmaps = false;
+  t.unpackAlignment = 1;
+  t.needsUpdate = true;
+  return t;
+}
+
+// The stream's source from the URL, or from a file the user drops or chooses.
+function chooseSource() {
+  if (params.has('stream')) {
+    const url = params.get('stream');
+    const name = decodeURIComponent(new URL(url, document.baseURI).pathname.split('/').pop());
+    return Promise.resolve({ url, name: name || url });
+  }
+  statusLine.textContent = 'drop a .3dvo file on the page, or choose one';
+  const input = document.getElementById('file');
+  input.hidden = false;
+  return new Promise((resolve) => {
+    const take = (file) => { if (file) { input.hidden = true; resolve({ file, name: file.name }); } };
+    input.addEventListener('change', () => take(input.files[0]));
+    window.addEventListener('dragover', (e) => e.preventDefault());
+    window.addEventListener('drop', (e) => { e.preventDefault(); take(e.dataTransfer.files[0]); });
+  });
+}
+
 async function main() {
-  const base = (params.get('data') || 'data/').replace(/\/?$/, '/');
-  const scene = await fetchOk(base + 'scene.json').then((r) => r.json());
-  if (scene.format !== '3dvo-player' || scene.version !== 1)
-    throw new Error(base + 'scene.json: not a 3dvo-player scene of version 1');
-  const cameras = scene.cameras;
-  const weights = { ...scene.weights };
+  const canvas = document.getElementById('view');
+  const renderer = new THREE.WebGLRenderer(
+      { canvas, antialias: false, alpha: true, preserveDrawingBuffer: true });
+  if (!renderer.capabilities.isWebGL2) throw new Error('this browser has no WebGL 2');
+  const tdvo = await loadDecoder();
+  const source = await chooseSource();
+  const stream = new FrameStream(tdvo, source.name, { md5: params.get('md5') === '1' });
+  api.md5Lines = () => stream.md5Lines();
+  api.timing = stream.timing;
+  let progress = '';
+  // The status line: the name and progress until the stream is open, then more.
+  let showStatus = () => { statusLine.textContent = `${source.name}: ${progress}`; };
+  const reading = readInto(source, source.name, stream, (received, total) => {
+    progress = total ? `received ${received} of ${total} bytes` : `received ${received} bytes`;
+    if (api.state !== 'error') showStatus();
+  });
+  reading.catch((e) => stream.fail(e));
+  statusLine.textContent = `${source.name}: waiting for the stream`;
+  const info = await stream.open();
+  api.info = info;
+  const first = stream.firstGeometry;  // its textures are still on their way
+  if (!first) throw new Error(`${source.name}: the stream has no frames`);
+
+  const cameras = info.cameras;
+  const textured = cameras.length > 0 && stream.videos !== null;
+  const weights = { direction: 'axis', sharpness: 4, depthTolerance: 0.01, fallback: 'nearest',
+                    fallbackColour: [128, 128, 128], background: [0, 0, 0] };
   if (params.has('direction')) weights.direction = params.get('direction');
   if (params.has('sharpness')) weights.sharpness = Number(params.get('sharpness'));
   if (params.has('tolerance')) weights.depthTolerance = Number(params.get('tolerance'));
@@ -107,26 +145,27 @@ async function main() {
   let useMask = 0;
   cameras.forEach((c, i) => { if (i < 32 && !excluded.has(c.name)) useMask |= 1 << i; });
 
-  // Canvas: a dataset camera's size when starting from its pose, else the window.
+  // The object: centre of the first frame's bounding box (as the CPU renderer's orbit), and a
+  // sphere around the grid's cube, which holds every frame (near and far planes).
+  const firstGeometry = new THREE.BufferGeometry();
+  firstGeometry.setAttribute('position', new THREE.BufferAttribute(first.positions, 3));
+  firstGeometry.computeBoundingBox();
+  const centre = firstGeometry.boundingBox.getCenter(new THREE.Vector3());
+  const side = info.grid.step * (2 ** info.grid.bits - 1);
+  const gridCentre = new THREE.Vector3(...info.grid.origin).addScalar(side / 2);
+  const radius = Math.sqrt(3) / 2 * side + gridCentre.distanceTo(centre);
+
   const start = params.get('camera');
   const startCamera = start ? cameras.find((c) => c.name === start) : null;
-  if (start && !startCamera) throw new Error(`no camera named '${start}' in scene.json`);
-  const canvas = document.getElementById('view');
-  const renderer = new THREE.WebGLRenderer(
-      { canvas, antialias: false, alpha: true, preserveDrawingBuffer: true });
-  if (!renderer.capabilities.isWebGL2) throw new Error('WebGL 2 is needed');
+  if (start && !startCamera) throw new Error(`no camera named '${start}' in the stream`);
   renderer.setPixelRatio(1);
   renderer.outputColorSpace = THREE.LinearSRGBColorSpace;  // colours written as computed
-  renderer.setClearColor(new THREE.Color(...scene.weights.background.map((v) => v / 255)), 0);
-  const maxSide = renderer.capabilities.maxTextureSize;
-  if (scene.atlas.width > maxSide || scene.atlas.height > maxSide)
-    throw new Error(`the texture atlas (${scene.atlas.width}x${scene.atlas.height}) exceeds ` +
-                    `this GPU's ${maxSide}; export fewer cameras`);
-
+  const background = new THREE.Color(...weights.background.map((v) => v / 255));
+  renderer.setClearColor(background, 0);
   let width, height;
   const view = new THREE.PerspectiveCamera();
-  view.up.fromArray(scene.up);
-  const centre = new THREE.Vector3().fromArray(scene.centre);
+  const up = upDirection(info) || new THREE.Vector3(0, 1, 0);
+  view.up.copy(up);
   let intrinsics;  // fx, fy, cx, cy for the current canvas
   function fitCanvas() {
     if (startCamera) {
@@ -134,8 +173,9 @@ async function main() {
       intrinsics = [startCamera.fx, startCamera.fy, startCamera.cx, startCamera.cy];
     } else {
       width = Math.max(16, window.innerWidth), height = Math.max(16, window.innerHeight - 48);
-      const c0 = cameras[0];  // camera 0's vertical field of view
-      const f = c0.fy * height / c0.height;
+      // camera 0's vertical field of view, or 40 degrees without cameras
+      const f = cameras.length ? cameras[0].fy * height / cameras[0].height
+                               : height / 2 / Math.tan(THREE.MathUtils.degToRad(20));
       intrinsics = [f, f, (width - 1) / 2, (height - 1) / 2];
     }
     renderer.setSize(width, height, false);
@@ -148,152 +188,269 @@ async function main() {
   // optical axis: a camera's own pose stays exact until the user moves the view.
   const controls = new OrbitControls(view, canvas);
   function setViewPose(c) {
-    setPose(view, c.R, c.t);
+    setPose(view, rows(c.R), c.t);
     const axis = view.getWorldDirection(new THREE.Vector3());
     const along = centre.clone().sub(view.position).dot(axis);
     controls.target.copy(view.position).addScaledVector(axis, Math.max(along, 1e-6));
   }
-  setViewPose(startCamera || cameras[0]);
+  if (startCamera || cameras.length) {
+    setViewPose(startCamera || cameras[0]);
+  } else {  // framing the object: from the front (+z), a little above
+    const r = firstGeometry.boundingBox.getSize(new THREE.Vector3()).length() / 2;
+    const f = intrinsics[1] / height;  // 1 / (2 tan(fov / 2))
+    view.position.copy(centre).add(new THREE.Vector3(0, 0.35, 1).normalize()
+                                       .multiplyScalar(1.2 * r * 2 * f + r));
+    controls.target.copy(centre);
+    view.lookAt(centre);
+    view.updateMatrixWorld(true);
+  }
+  firstGeometry.dispose();
 
-  // Depth maps: one float layer per camera, each camera in the bottom-left W × H of its layer.
-  const depthTarget = new THREE.WebGLArrayRenderTarget(
-      scene.atlas.cellWidth, scene.atlas.cellHeight, cameras.length,
-      { type: THREE.FloatType, format: THREE.RedFormat, depthBuffer: true });
-  depthTarget.texture.minFilter = depthTarget.texture.magFilter = THREE.NearestFilter;
-  const cameraData = cameraTexture(cameras);
-  const depthMaterial = new THREE.ShaderMaterial({
-    glslVersion: THREE.GLSL3,
-    vertexShader: depthVertex,
-    fragmentShader: depthFragment,
-    uniforms: { uCameras: { value: cameraData }, uCamera: { value: 0 },
-                uNearFar: { value: new THREE.Vector2() } },
-    side: THREE.DoubleSide,
-  });
-  const blendMaterial = new THREE.ShaderMaterial({
-    glslVersion: THREE.GLSL3,
-    defines: { MAX_CAMERAS: cameras.length },
-    vertexShader: blendVertex,
-    fragmentShader: blendFragment,
-    side: THREE.DoubleSide,
-    uniforms: {
-      uCameras: { value: cameraData },
-      uAtlas: { value: null },
-      uDepth: { value: depthTarget.texture },
-      uCount: { value: cameras.length },
-      uUseMask: { value: useMask >>> 0 },
-      uViewCentre: { value: new THREE.Vector3() },
-      uViewAxis: { value: new THREE.Vector3() },
-      uDirection: { value: weights.direction === 'axis' ? 1 : 0 },
-      uSharpness: { value: weights.sharpness },
-      uTolerance: { value: weights.depthTolerance },
-      uFallback: { value: weights.fallback === 'colour' ? 1 : 0 },
-      uFallbackColour: { value: new THREE.Vector3(...weights.fallbackColour.map((v) => v / 255)) },
-    },
-  });
-  const mesh = new THREE.Mesh(new THREE.BufferGeometry(), blendMaterial);
-  mesh.frustumCulled = false;
+  // Materials: the view-dependent blend of the decoded textures, or flat shading.
   const world = new THREE.Scene();
+  const mesh = new THREE.Mesh(new THREE.BufferGeometry());
+  mesh.frustumCulled = false;
   world.add(mesh);
-  const depthMesh = new THREE.Mesh(mesh.geometry, depthMaterial);
-  depthMesh.frustumCulled = false;
-  const depthScene = new THREE.Scene();
-  depthScene.add(depthMesh);
-  const depthCamera = new THREE.Camera();  // unused by the depth shader's own projection
-
-  // Frames: loaded on demand, a few kept; a frame's depth maps are drawn when it is shown.
-  const cache = new Map();
-  function requestFrame(n) {
-    if (!cache.has(n)) cache.set(n, loadFrame(base, scene, n));
-    return cache.get(n);
-  }
-  function trimCache(current) {
-    for (const [n, promise] of cache)
-      if (n < current - 2 || n > current + 6) {
-        cache.delete(n);
-        promise.then((f) => { f.geometry.dispose(); f.atlas.dispose(); }, () => {});
-      }
-  }
-  let shown = null;
-  function drawDepthMaps() {
-    const r = scene.radius;
-    cameras.forEach((c, i) => {
-      const d = new THREE.Vector3().fromArray(cameraCentre(c.R, c.t)).distanceTo(centre);
-      depthMaterial.uniforms.uCamera.value = i;
-      depthMaterial.uniforms.uNearFar.value.set(Math.max(1e-4 * (d + r), d - 1.5 * r), d + 1.5 * r);
-      depthTarget.viewport.set(0, 0, c.width, c.height);
-      depthTarget.scissor.set(0, 0, c.width, c.height);
-      renderer.setRenderTarget(depthTarget, i);
-      renderer.setClearColor(0x000000, 0);
-      renderer.clear(true, true, false);
-      renderer.render(depthScene, depthCamera);
+  let drawDepthMaps = () => {}, showPictures = () => {};
+  // Flat shading: a geometry-only stream, a browser without WebCodecs, and the first frame
+  // until its textures are decoded.
+  const flatMaterial = new THREE.MeshLambertMaterial({ color: 0xc8c8c8, flatShading: true,
+                                                      side: THREE.DoubleSide });
+  mesh.material = flatMaterial;
+  world.add(new THREE.AmbientLight(0xffffff, 0.35));
+  const light = new THREE.DirectionalLight(0xffffff, 2.2);
+  light.position.set(0.3, 0.6, 1);  // a headlight, a little above and right of the view
+  view.add(light);
+  world.add(view);
+  let blendMaterial = null;
+  if (textured) {
+    const depthTarget = new THREE.WebGLArrayRenderTarget(
+        Math.max(...cameras.map((c) => c.width)), Math.max(...cameras.map((c) => c.height)),
+        cameras.length, { type: THREE.FloatType, format: THREE.RedFormat, depthBuffer: true });
+    depthTarget.texture.minFilter = depthTarget.texture.magFilter = THREE.NearestFilter;
+    const cameraData = cameraTexture(cameras);
+    const depthMaterial = new THREE.ShaderMaterial({
+      glslVersion: THREE.GLSL3,
+      vertexShader: depthVertex,
+      fragmentShader: depthFragment,
+      uniforms: { uCameras: { value: cameraData }, uCamera: { value: 0 },
+                  uNearFar: { value: new THREE.Vector2() } },
+      side: THREE.DoubleSide,
     });
-    renderer.setRenderTarget(null);
-    renderer.setClearColor(new THREE.Color(...scene.weights.background.map((v) => v / 255)), 0);
+    const boxW = Math.max(...cameras.map((c) => c.box.width));
+    const boxH = Math.max(...cameras.map((c) => c.box.height));
+    const planes = [planeTexture(boxW, boxH, cameras.length),
+                    planeTexture(boxW / 2, boxH / 2, cameras.length),
+                    planeTexture(boxW / 2, boxH / 2, cameras.length)];
+    const rgbTarget = new THREE.WebGLArrayRenderTarget(boxW, boxH, cameras.length,
+                                                       { depthBuffer: false });
+    rgbTarget.texture.minFilter = rgbTarget.texture.magFilter = THREE.NearestFilter;
+    rgbTarget.texture.generateMipmaps = false;
+    const convertMaterial = new THREE.ShaderMaterial({
+      glslVersion: THREE.GLSL3,
+      vertexShader: convertVertex,
+      fragmentShader: convertFragment,
+      uniforms: { uY: { value: planes[0] }, uU: { value: planes[1] }, uV: { value: planes[2] },
+                  uLayer: { value: 0 }, uSize: { value: new THREE.Vector2() } },
+      depthTest: false,
+      depthWrite: false,
+    });
+    const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), convertMaterial);
+    quad.frustumCulled = false;
+    const convertScene = new THREE.Scene();
+    convertScene.add(quad);
+    blendMaterial = new THREE.ShaderMaterial({
+      glslVersion: THREE.GLSL3,
+      defines: { MAX_CAMERAS: cameras.length },
+      vertexShader: blendVertex,
+      fragmentShader: blendFragment,
+      side: THREE.DoubleSide,
+      uniforms: {
+        uCameras: { value: cameraData },
+        uRgb: { value: rgbTarget.texture },
+        uDepth: { value: depthTarget.texture },
+        uCount: { value: cameras.length },
+        uUseMask: { value: useMask >>> 0 },
+        uViewCentre: { value: new THREE.Vector3() },
+        uViewAxis: { value: new THREE.Vector3() },
+        uDirection: { value: weights.direction === 'axis' ? 1 : 0 },
+        uSharpness: { value: weights.sharpness },
+        uTolerance: { value: weights.depthTolerance },
+        uFallback: { value: weights.fallback === 'colour' ? 1 : 0 },
+        uFallbackColour: { value: new THREE.Vector3(...weights.fallbackColour.map((v) => v / 255)) },
+      },
+    });
+    const depthMesh = new THREE.Mesh(mesh.geometry, depthMaterial);
+    depthMesh.frustumCulled = false;
+    const depthScene = new THREE.Scene();
+    depthScene.add(depthMesh);
+    const depthCamera = new THREE.Camera();  // unused by the depth shader's own projection
+    drawDepthMaps = () => {
+      depthMesh.geometry = mesh.geometry;
+      cameras.forEach((c, i) => {
+        const d = new THREE.Vector3().fromArray(cameraCentre(rows(c.R), c.t)).distanceTo(centre);
+        depthMaterial.uniforms.uCamera.value = i;
+        depthMaterial.uniforms.uNearFar.value.set(Math.max(1e-4 * (d + radius), d - 1.5 * radius),
+                                                  d + 1.5 * radius);
+        depthTarget.viewport.set(0, 0, c.width, c.height);
+        depthTarget.scissor.set(0, 0, c.width, c.height);
+        renderer.setRenderTarget(depthTarget, i);
+        renderer.setClearColor(0x000000, 0);
+        renderer.clear(true, true, false);
+        renderer.render(depthScene, depthCamera);
+      });
+      renderer.setRenderTarget(null);
+      renderer.setClearColor(background, 0);
+    };
+    // Each camera's planes into its layer (rows of the box, top row first).
+    showPictures = (pictures) => {
+      cameras.forEach((c, i) => {
+        const p = pictures[i], w = c.box.width, h = c.box.height;
+        const sizes = [[w, h, 0], [w / 2, h / 2, w * h], [w / 2, h / 2, w * h * 5 / 4]];
+        sizes.forEach(([pw, ph, offset], k) => {
+          const t = planes[k], tw = t.image.width;
+          for (let y = 0; y < ph; ++y)
+            t.image.data.set(p.subarray(offset + y * pw, offset + (y + 1) * pw), (i * t.image.height + y) * tw);
+          t.addLayerUpdate(i);
+          t.needsUpdate = true;
+        });
+      });
+      cameras.forEach((c, i) => {  // YUV -> RGB, once per frame
+        convertMaterial.uniforms.uLayer.value = i;
+        convertMaterial.uniforms.uSize.value.set(c.box.width, c.box.height);
+        rgbTarget.viewport.set(0, 0, c.box.width, c.box.height);
+        rgbTarget.scissor.set(0, 0, c.box.width, c.box.height);
+        renderer.setRenderTarget(rgbTarget, i);
+        renderer.render(convertScene, depthCamera);
+      });
+      renderer.setRenderTarget(null);
+    };
   }
-  async function showFrame(n) {
-    const frame = await requestFrame(n);
-    if (shown !== frame) {
-      mesh.geometry = depthMesh.geometry = frame.geometry;
-      blendMaterial.uniforms.uAtlas.value = frame.atlas;
-      drawDepthMaps();
-      shown = frame;
+
+  function draw() {
+    const t0 = performance.now();
+    const d = view.position.distanceTo(centre);
+    setIntrinsics(view, ...intrinsics, width, height, Math.max(1e-4 * (d + radius), d - 1.5 * radius),
+                  d + 1.5 * radius);
+    if (mesh.material === blendMaterial) {
+      blendMaterial.uniforms.uViewCentre.value.copy(view.position);
+      view.getWorldDirection(blendMaterial.uniforms.uViewAxis.value);
     }
-    api.frame = n;
-    trimCache(n);
-    for (let k = 1; k <= 3 && n + k < scene.frames.count; ++k) requestFrame(n + k);
+    renderer.render(world, view);
+    renderTiming.framesDrawn++;
+    renderTiming.renderMs += performance.now() - t0;
+  }
+  const renderTiming = { framesDrawn: 0, renderMs: 0 };
+  api.timing = Object.assign(stream.timing, { render: renderTiming });
+
+  function show(frame) {
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(frame.positions, 3));
+    geometry.setIndex(new THREE.BufferAttribute(frame.triangles, 1));
+    mesh.geometry.dispose();
+    mesh.geometry = geometry;
+    if (textured && frame.pictures) {
+      showPictures(frame.pictures);
+      drawDepthMaps();
+      mesh.material = blendMaterial;
+    }
+    api.frame = frame.index;
+    // The automatic path moves with the frames (no extra draws: software GL is slow).
+    if (api.playing && pathOn) path.apply(view, controls.target, performance.now() / 1000);
     updateUi();
     draw();
   }
 
-  function draw() {
-    const d = view.position.distanceTo(centre), r = scene.radius;
-    setIntrinsics(view, ...intrinsics, width, height, Math.max(1e-4 * (d + r), d - 1.5 * r),
-                  d + 1.5 * r);
-    blendMaterial.uniforms.uViewCentre.value.copy(view.position);
-    view.getWorldDirection(blendMaterial.uniforms.uViewAxis.value);
-    renderer.render(world, view);
-  }
-
-  controls.addEventListener('change', draw);
-
-  // Playback: the next frame is shown once loaded and its time has come; seeking lands on GOM
-  // starts, the stream's random-access points.
-  const gomStarts = scene.gomStarts.length ? scene.gomStarts : [0];
+  // Playback: frames come from the stream in order at its frame rate (with md5=1 as fast as
+  // they decode); after the last one it starts over at the first GOM. Seeking lands on GOM
+  // starts; a start not yet arrived waits for it ("buffering").
+  const md5Run = params.get('md5') === '1';
+  const count = info.frameCount;
   const slider = document.getElementById('seek');
   const playButton = document.getElementById('play');
   const label = document.getElementById('frame');
-  slider.max = String(scene.frames.count - 1);
+  slider.max = String(count - 1);
+  let buffering = false;
+  showStatus = () => {
+    const parts = [source.name];
+    if (info.description) parts.push(info.description);
+    parts.push(cameras.length ? `${cameras.length} cameras` : 'geometry only');
+    if (textured) parts.push(`weights: ${weights.direction}, k = ${weights.sharpness}`);
+    if (progress) parts.push(progress);
+    if (buffering) parts.push('buffering');
+    statusLine.textContent = parts.join(' · ');
+    if (stream.textureNote) statusLine.textContent += '\n' + stream.textureNote;
+  };
+  const gomIndices = () => stream.gomStarts().map((s) => s - info.firstFrame);
   function gomStartAtOrBefore(n) {
-    let s = gomStarts[0];
-    for (const g of gomStarts) if (g <= n) s = g;
+    let s = 0;
+    for (const g of gomIndices()) if (g <= n) s = g;
     return s;
   }
   function updateUi() {
     slider.value = String(api.frame);
     playButton.textContent = api.playing ? 'Pause' : 'Play';
-    const gom = gomStarts.filter((g) => g <= api.frame).length;
-    label.textContent = `frame ${api.frame + 1}/${scene.frames.count} · GOM ${gom}/${gomStarts.length}`;
+    const starts = gomIndices();
+    const gom = starts.filter((g) => g <= api.frame).length;
+    label.textContent = `frame ${api.frame + 1}/${count} · GOM ${gom}/${starts.length}` +
+                        (stream.finished ? '' : '+');
   }
-  let busy = false, lastTick = 0;
+  // One job at a time: the next frame, or a seek; `busy` is the job running.
+  let busy = null;
+  function job(f) {
+    const run = (busy || Promise.resolve()).then(f);
+    busy = run.catch(fail);
+    return run;
+  }
+  async function advance() {
+    let frame = await stream.next();
+    if (!frame) {  // past the last frame: from the start again
+      if (md5Run) { api.pause(); return; }
+      await stream.seek(0, setBuffering);
+      frame = await stream.next();
+    }
+    show(frame);
+  }
+  function setBuffering(on) { buffering = on; showStatus(); }
+  // Shows frame n exactly: from the GOM start at or before it, decoding forward.
+  async function showExactly(n) {
+    const s = await stream.seek(n, setBuffering);
+    let frame = null;
+    for (let i = s; i <= n; ++i) frame = await stream.next();
+    if (frame) show(frame);
+  }
+  let pathOn = params.get('path') !== '0' && cameras.length > 1 && !md5Run;
+  const path = cameras.length > 1 ? new ViewPath(cameras, centre, up) : null;
+  controls.addEventListener('start', () => { pathOn = false; });
+  controls.addEventListener('change', draw);
+  let lastTick = 0, pending = false;
   function tick(time) {
-    if (api.playing && !busy && time - lastTick >= 1000 / scene.frames.rate) {
+    if (api.state === 'error') return;
+    if (api.playing && !pending && (md5Run || time - lastTick >= 1000 / info.frameRate)) {
       lastTick = time;
-      busy = true;
-      showFrame((api.frame + 1) % scene.frames.count).catch(fail).finally(() => { busy = false; });
+      pending = true;
+      job(advance).finally(() => { pending = false; });
     }
     requestAnimationFrame(tick);
   }
-  api.play = () => { api.playing = true; updateUi(); };
+  api.play = () => { api.playing = true; if (path) path.restart(); updateUi(); };
   api.pause = () => { api.playing = false; updateUi(); };
-  api.setFrame = (n) => showFrame(Math.min(Math.max(0, n | 0), scene.frames.count - 1));
-  api.seekGom = (n) => api.setFrame(gomStartAtOrBefore(n));
+  api.setFrame = (n) => job(() => showExactly(Math.min(Math.max(0, n | 0), count - 1)));
+  api.seekGom = (n) => job(async () => {
+    const s = await stream.seek(Math.min(Math.max(0, n | 0), count - 1), setBuffering);
+    const frame = await stream.next();
+    if (frame) show(frame);
+    return s;
+  });
   api.viewFromCamera = (name) => {
     const c = cameras.find((x) => x.name === name);
     if (!c) throw new Error(`no camera named '${name}'`);
+    pathOn = false;
     setViewPose(c);
     draw();
   };
   api.orbit = (degrees) => {  // turn the view about the up axis through the centre
+    pathOn = false;
     const q = new THREE.Quaternion().setFromAxisAngle(view.up, degrees * Math.PI / 180);
     view.position.sub(centre).applyQuaternion(q).add(centre);
     view.quaternion.premultiply(q);
@@ -306,26 +463,27 @@ async function main() {
     const gl = renderer.getContext();
     const pixels = new Uint8Array(width * height * 4);
     gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, pixels);
-    const rows = new Uint8Array(pixels.length);  // GL rows start at the bottom
+    const flipped = new Uint8Array(pixels.length);  // GL rows start at the bottom
     for (let y = 0; y < height; ++y)
-      rows.set(pixels.subarray((height - 1 - y) * width * 4, (height - y) * width * 4), y * width * 4);
+      flipped.set(pixels.subarray((height - 1 - y) * width * 4, (height - y) * width * 4), y * width * 4);
     let text = '';
-    for (let i = 0; i < rows.length; i += 0x8000)
-      text += String.fromCharCode(...rows.subarray(i, i + 0x8000));
+    for (let i = 0; i < flipped.length; i += 0x8000)
+      text += String.fromCharCode(...flipped.subarray(i, i + 0x8000));
     return { width, height, rgba: btoa(text) };
   };
   playButton.addEventListener('click', () => (api.playing ? api.pause() : api.play()));
-  slider.addEventListener('input', () => { api.seekGom(Number(slider.value)).catch(fail); });
+  slider.addEventListener('input', () => { api.seekGom(Number(slider.value)); });
   document.getElementById('prev-gom').addEventListener('click', () => {
-    const i = gomStarts.lastIndexOf(gomStartAtOrBefore(api.frame));
-    api.setFrame(gomStarts[Math.max(0, i - 1)]).catch(fail);
+    const starts = gomIndices(), i = starts.lastIndexOf(gomStartAtOrBefore(api.frame));
+    api.seekGom(starts[Math.max(0, i - 1)]);
   });
   document.getElementById('next-gom').addEventListener('click', () => {
-    const i = gomStarts.lastIndexOf(gomStartAtOrBefore(api.frame));
-    api.setFrame(gomStarts[Math.min(gomStarts.length - 1, i + 1)]).catch(fail);
+    const starts = gomIndices(), i = starts.lastIndexOf(gomStartAtOrBefore(api.frame));
+    api.seekGom(i + 1 < starts.length ? starts[i + 1] : count);  // past the last: buffering
   });
   const cameraMenu = document.getElementById('camera');
   for (const c of cameras) cameraMenu.add(new Option(c.name, c.name));
+  cameraMenu.hidden = cameras.length === 0;
   cameraMenu.addEventListener('change', () => {
     if (cameraMenu.value) api.viewFromCamera(cameraMenu.value);
   });
@@ -336,12 +494,14 @@ async function main() {
   });
   window.addEventListener('resize', () => { if (!startCamera) { fitCanvas(); draw(); } });
 
-  await api.setFrame(Number(params.get('frame') || 0));
-  if (params.get('play') === '1') api.play();
-  requestAnimationFrame(tick);
-  statusLine.textContent = `${scene.description} · ${cameras.length} cameras · ` +
-                           `weights: ${weights.direction}, k = ${weights.sharpness}`;
+  show(first);  // its geometry at once
+  showStatus();
+  const startFrame = Number(params.get('frame') || 0);
+  if (startFrame > 0) await api.setFrame(startFrame);
+  else show(await stream.next());  // with its textures
   api.state = 'ready';
+  if (params.get('play') === '1' || md5Run) api.play();
+  requestAnimationFrame(tick);
 }
 
 main().catch(fail);

@@ -1,11 +1,12 @@
-// GLSL (WebGL 2) of the player: the per-camera depth pass and the view-dependent blend. Both
-// follow the CPU renderer (tools/render/view_renderer.h) step by step; docs/rendering.md.
+// GLSL (WebGL 2) of the player: the per-camera depth pass, the YUV → RGB conversion of the
+// decoded textures and the view-dependent blend. All follow the C++ side step by step
+// (tools/render/view_renderer.h, common/media/yuv.cpp); docs/rendering.md.
 //
 // Per-camera parameters live in a float texture (uCameras, 8 texels per camera, one row each)
 // so that the camera count is not limited by the uniform space:
 //   texel 0..2: rows of R with t.x, t.y, t.z in w      texel 3: fx, fy, cx, cy
 //   texel 4: k1, k2, p1, p2                            texel 5: k3, width, height, 0
-//   texel 6: atlas x, atlas y of the camera's cell     texel 7: camera centre, 0
+//   texel 6: texture box x, y, width, height          texel 7: camera centre, 0
 
 const cameraCommon = /* glsl */ `
 uniform highp sampler2D uCameras;
@@ -17,7 +18,7 @@ struct Cam {
   vec4 dist;
   float k3;
   vec2 size;
-  ivec2 atlas;
+  ivec4 box;
   vec3 centre;
   vec3 axis;
 };
@@ -35,7 +36,7 @@ Cam fetchCamera(int i) {
   c.dist = texelFetch(uCameras, ivec2(4, i), 0);
   c.k3 = e5.x;
   c.size = e5.yz;
-  c.atlas = ivec2(e6.xy);
+  c.box = ivec4(e6);
   c.centre = texelFetch(uCameras, ivec2(7, i), 0).xyz;
   c.axis = r2.xyz;
   return c;
@@ -89,13 +90,89 @@ void main() {
 }
 `;
 
-// The view-dependent blend (MAX_CAMERAS is defined by the material).
+// A decoded texture's RGB at a pixel of its box, exactly as 3dvo-dec converts it for its PNGs
+// (common/media/yuv.cpp: libswscale, BT.601 limited range, SWS_BILINEAR | SWS_ACCURATE_RND |
+// SWS_BITEXACT | SWS_FULL_CHR_H_INT, FFmpeg 5.1). Integer arithmetic reproduces libswscale's
+// result bit for bit (checked on random pictures against the library, docs/rendering.md):
+// - chroma upsampled horizontally with centre-sited bilinear taps (3/4, 1/4; the edge taps
+//   clamped), exact in libswscale's 15-bit intermediate;
+// - vertically, libswscale's two-tap RGB output takes, where the second tap's weight is below
+//   1/2, the first chroma row alone, else the mean of both rows (so the last luma row averages
+//   the last two chroma rows);
+// - R, G, B = ((Y − 16)·76312 + 32768 + chroma terms) >> 16 with the coefficients 13075
+//   (V→R), −6660 (V→G), −3209 (U→G), 16525 (U→B) in units of 1/8 chroma step, clipped to 0..255,
+//   where a sum past 2^25 (a 32-bit overflow inside libswscale: very bright blue) gives 0.
+export const yuvToRgb = /* glsl */ `
+uniform highp sampler2DArray uY;      // per camera its box's luma, layer = camera
+uniform highp sampler2DArray uU;
+uniform highp sampler2DArray uV;
+
+int sampleAt(highp sampler2DArray plane, ivec2 p, int layer) {
+  return int(texelFetch(plane, ivec3(p, layer), 0).r * 255.0 + 0.5);
+}
+
+// The two taps of 2x upsampling output sample i from n samples: (first sample, second's weight
+// in quarters).
+ivec2 upsamplingTaps(int i, int n) {
+  ivec2 t = (i & 1) == 0 ? ivec2(i / 2 - 1, 3) : ivec2((i - 1) / 2, 1);
+  if (t.x < 0) return ivec2(0, 0);
+  if (t.x + 1 > n - 1) return ivec2(n - 2, 4);
+  return t;
+}
+
+// Chroma at luma pixel p of a box of luma size 'size', in 1/8 steps minus 1024.
+int chromaAt(highp sampler2DArray plane, ivec2 p, ivec2 size, int layer) {
+  ivec2 h = upsamplingTaps(p.x, size.x / 2), v = upsamplingTaps(p.y, size.y / 2);
+  int row0 = sampleAt(plane, ivec2(h.x, v.x), layer) * (4 - h.y) +
+             sampleAt(plane, ivec2(h.x + 1, v.x), layer) * h.y;
+  if (v.y < 2) return 2 * row0 - 1024;
+  int row1 = sampleAt(plane, ivec2(h.x, v.x + 1), layer) * (4 - h.y) +
+             sampleAt(plane, ivec2(h.x + 1, v.x + 1), layer) * h.y;
+  return row0 + row1 - 1024;
+}
+
+float channel(int sum) {
+  if (sum < 0 || sum >= (1 << 25)) return 0.0;
+  if (sum >= (1 << 24)) return 1.0;
+  return float(sum >> 16) / 255.0;
+}
+
+// RGB (0..1) at pixel p of camera 'layer''s box of size 'size'.
+vec3 boxRgb(ivec2 p, ivec2 size, int layer) {
+  int y = (sampleAt(uY, p, layer) - 16) * 76312 + 32768;
+  int u = chromaAt(uU, p, size, layer), v = chromaAt(uV, p, size, layer);
+  return vec3(channel(y + v * 13075), channel(y - v * 6660 - u * 3209), channel(y + u * 16525));
+}
+`;
+
+// The conversion pass: a camera's box as RGB into its layer of an RGBA8 array target, once per
+// decoded frame (the blend then reads one texel per sample). Fragment (x, y) of the viewport is
+// box pixel (x, y), row 0 at the top, which texelFetch reads back at (x, y).
+export const convertVertex = /* glsl */ `
+void main() { gl_Position = vec4(position.xy, 0.0, 1.0); }
+`;
+
+export const convertFragment = /* glsl */ `
+precision highp float;
+precision highp int;
+precision highp sampler2DArray;
+${yuvToRgb}
+uniform int uLayer;
+uniform vec2 uSize;  // the box, in pixels
+out vec4 outColour;
+void main() { outColour = vec4(boxRgb(ivec2(gl_FragCoord.xy), ivec2(uSize), uLayer), 1.0); }
+`;
+
+// The view-dependent blend (MAX_CAMERAS is defined by the material). A camera's texel takes
+// part when it lies in the camera's image and texture box and inside the object's shape there:
+// the pixels the decoded mesh covers in that camera, i.e. where its depth map is not empty
+// (docs/bitstream.md section 6: the shape is not transmitted).
 export const blendFragment = /* glsl */ `
 precision highp float;
 precision highp int;
 precision highp sampler2DArray;
 ${cameraCommon}
-uniform highp sampler2D uAtlas;       // RGBA8 camera images, alpha = mask
+uniform highp sampler2DArray uRgb;    // per camera its box's RGB (the conversion pass)
 uniform highp sampler2DArray uDepth;  // per camera 1 / z, layer = camera
 uniform int uCount;
 uniform uint uUseMask;                // bit i set: camera i may be used (first 32 cameras)
@@ -134,14 +211,16 @@ void main() {
       ivec2 x = p0 + ivec2(k & 1, k >> 1);
       float b = ((k & 1) == 1 ? a.x : 1.0 - a.x) * ((k >> 1) == 1 ? a.y : 1.0 - a.y);
       if (b <= 0.0 || x.x < 0 || x.y < 0 || x.x >= int(c.size.x) || x.y >= int(c.size.y)) continue;
-      vec4 texel = texelFetch(uAtlas, c.atlas + x, 0);
-      if (texel.a < 0.5) continue;  // outside the camera's mask
-      maskW += b;
-      maskC += b * texel.rgb;
+      ivec2 inBox = x - c.box.xy;
+      if (inBox.x < 0 || inBox.y < 0 || inBox.x >= c.box.z || inBox.y >= c.box.w) continue;
       float inverseDepth = texelFetch(uDepth, ivec3(x.x, int(c.size.y) - 1 - x.y, i), 0).r;
+      if (!(inverseDepth > 0.0)) continue;  // outside the object's shape in this camera
+      vec3 texel = texelFetch(uRgb, ivec3(inBox, i), 0).rgb;
+      maskW += b;
+      maskC += b * texel;
       if (inverseDepth > hidden) continue;
       seenW += b;
-      seenC += b * texel.rgb;
+      seenC += b * texel;
     }
     if (maskW <= 0.0) continue;
     vec3 d = uDirection == 0 ? normalize(c.centre - P) : c.axis;

@@ -1,37 +1,43 @@
 // Browser test of the web player (node --test; registered in ctest as player_browser_test).
 //
-// Makes a small synthetic rig with this build's 3dvo-synth, exports it with 3dvo-render, serves
-// the player and the data from 127.0.0.1, and drives Debian's headless Chromium (SwiftShader
-// WebGL 2, no GPU) through playwright-core. Checks that the page draws non-empty frames, plays,
-// seeks to GOM starts, orbits, and that its frame at a camera's own pose, and at that pose with
-// the camera left out, matches the CPU renderer inside the camera's mask.
+// Codes a small synthetic rig with this build's 3dvo-synth and 3dvo-enc (cfg/sample.cfg, 4
+// frames in GOMs of 2), serves the player, the WebAssembly decoder (as wasm/) and the stream from
+// 127.0.0.1, and drives Debian's headless Chromium (SwiftShader WebGL 2, no GPU) through
+// playwright-core. Checks that the page plays the .3dvo itself: its frame at a camera's own
+// pose, and at that pose with the camera left out, matches 3dvo-render on 3dvo-dec's output; a
+// 10 s screenshot shows the object; it plays, seeks to GOM starts, orbits and views from a
+// camera; a missing, a truncated and a corrupted stream show 3dvo-dec's error line.
 //
-// Environment: TDVO_BIN_DIR (the apps), TDVO_PLAYER_DIR (the assembled player folder, default:
-// this file's parent folder), TDVO_CHROMIUM (default /usr/bin/chromium).
+// Environment: TDVO_BIN_DIR (the apps), TDVO_SOURCE_DIR (the checkout: cfg/sample.cfg),
+// TDVO_WASM_DIR (the WebAssembly build, default <source>/build-wasm), TDVO_PLAYER_DIR (the player
+// folder, default: this file's parent folder), TDVO_CHROMIUM (default /usr/bin/chromium).
+// Without the WebAssembly module the test says so and exits with 77 (ctest's SKIP_RETURN_CODE).
 import assert from 'node:assert/strict';
-import { execFileSync } from 'node:child_process';
+import { execFile, execFileSync } from 'node:child_process';
 import fs from 'node:fs';
-import http from 'node:http';
 import os from 'node:os';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
 import { fileURLToPath } from 'node:url';
 
-import { chromium } from 'playwright-core';
-import { PNG } from 'pngjs';
+import { launchChromium, nativeError, requireWasm } from './support.mjs';
+import { serve } from './serve.mjs';
 
-// Measured with Chromium 156 / SwiftShader (docs/rendering.md): 49.0 dB at the own pose, 45.2 dB
-// with the camera left out. The bound leaves room for other GL implementations' rounding and
-// coverage rules at silhouette pixels.
+// PSNR of the page against 3dvo-render over the pixels either covers. Measured with Chromium
+// 156 / SwiftShader: see docs/rendering.md. The bound leaves room for other GL implementations'
+// rounding and coverage rules at silhouette pixels.
 const MIN_PSNR_DB = 40;
 const CAMERA = 'cam03';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const playerDir = process.env.TDVO_PLAYER_DIR || path.dirname(here);
 const binDir = process.env.TDVO_BIN_DIR;
+const sourceDir = process.env.TDVO_SOURCE_DIR;
 const chromiumPath = process.env.TDVO_CHROMIUM || '/usr/bin/chromium';
+const wasmDir = requireWasm();
+const { PNG } = await import('pngjs');
 
-let work, server, baseUrl, browser;  // browser: a persistent context with a fresh profile
+let work, server, browser;
 
 function run(app, args) {
   execFileSync(path.join(binDir, app), args, { stdio: ['ignore', 'ignore', 'inherit'] });
@@ -41,66 +47,47 @@ function readPng(file) {
   return PNG.sync.read(fs.readFileSync(file));  // always RGBA 8-bit
 }
 
-// Static files: /data/... from the export, everything else from the player folder.
-function serve(root, dataRoot) {
-  const types = { '.html': 'text/html', '.js': 'text/javascript', '.json': 'application/json',
-                  '.png': 'image/png', '.bin': 'application/octet-stream' };
-  return http.createServer((request, response) => {
-    const url = decodeURIComponent(new URL(request.url, 'http://x').pathname);
-    const file = url.startsWith('/data/') ? path.join(dataRoot, url.slice(6))
-                                          : path.join(root, url === '/' ? 'index.html' : url);
-    fs.readFile(file, (error, bytes) => {
-      if (error) {
-        response.writeHead(404);
-        response.end();
-        return;
-      }
-      response.writeHead(200, { 'Content-Type': types[path.extname(file)] || 'application/octet-stream' });
-      response.end(bytes);
-    });
-  });
-}
-
 before(async () => {
-  assert.ok(binDir, 'TDVO_BIN_DIR must name the folder of 3dvo-synth and 3dvo-render');
-  assert.ok(fs.existsSync(chromiumPath),
-            `${chromiumPath} is missing: install Debian's chromium (scripts/packages.txt)`);
+  assert.ok(binDir && sourceDir, 'TDVO_BIN_DIR and TDVO_SOURCE_DIR must be set');
   work = fs.mkdtempSync(path.join(os.tmpdir(), 'tdvo-player-'));
   const synth = path.join(work, 'synth');
   run('3dvo-synth', ['-o', synth, '--FrameCount=4']);
-  fs.writeFileSync(path.join(synth, 'gom_starts.txt'), '0 2\n');
-  run('3dvo-render', ['-i', synth, '--Mode=export', '-o', path.join(work, 'export')]);
-  run('3dvo-render', ['-i', synth, '--Path=camera', `--Camera=${CAMERA}`, '--FrameCount=1',
+  run('3dvo-enc', ['-c', path.join(sourceDir, 'cfg', 'sample.cfg'), `--Dataset=${synth}`,
+                   '--FrameCount=4', '--GOMSize=2', `--BitstreamFile=${path.join(work, 'synth.3dvo')}`]);
+  run('3dvo-dec', ['-i', path.join(work, 'synth.3dvo'), '-o', path.join(work, 'decoded')]);
+  const decoded = path.join(work, 'decoded');
+  run('3dvo-render', ['-i', decoded, '--Path=camera', `--Camera=${CAMERA}`, '--FrameCount=1',
                       '-o', path.join(work, 'own')]);
-  run('3dvo-render', ['-i', synth, '--Mode=leave-one-out', '--FrameCount=1', '--SaveRenders',
+  run('3dvo-render', ['-i', decoded, '--Mode=leave-one-out', '--FrameCount=1', '--SaveRenders',
                       '-o', path.join(work, 'loo')]);
-  server = serve(playerDir, path.join(work, 'export'));
-  await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve));
-  baseUrl = `http://127.0.0.1:${server.address().port}/index.html`;
-  browser = await chromium.launchPersistentContext(path.join(work, 'chromium-profile'), {
-    executablePath: chromiumPath,
-    headless: true,
-    viewport: { width: 640, height: 480 },
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-           '--disable-background-networking', '--disable-component-update', '--disable-sync',
-           '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-  });
+  const bytes = fs.readFileSync(path.join(work, 'synth.3dvo'));
+  fs.writeFileSync(path.join(work, 'truncated.3dvo'), bytes.subarray(0, Math.floor(bytes.length * 0.6)));
+  const corrupted = Buffer.from(bytes);
+  corrupted[Math.floor(bytes.length * 0.3)] ^= 0x20;
+  fs.writeFileSync(path.join(work, 'corrupted.3dvo'), corrupted);
+  server = await serve({ '': playerDir, wasm: wasmDir, streams: work });
+  browser = await launchChromium(chromiumPath, path.join(work, 'chromium-profile'));
 });
 
 after(async () => {
   if (browser) await browser.close();
-  if (server) server.close();
+  if (server) await server.close();
   if (work) fs.rmSync(work, { recursive: true, force: true });
 });
 
-async function openPlayer(query) {
+async function openPlayer(query, stream = 'synth.3dvo') {
   const page = await browser.newPage();
   const errors = [];
   page.on('pageerror', (e) => errors.push(e.message));
-  await page.goto(`${baseUrl}?data=/data/&${query}`);
+  await page.goto(`${server.url}index.html?stream=streams/${stream}&${query}`);
   await page.waitForFunction(() => window.tdvoPlayer && window.tdvoPlayer.state !== 'loading',
                              null, { timeout: 30000 });
   const state = await page.evaluate(() => [window.tdvoPlayer.state, window.tdvoPlayer.error]);
+  return { page, state, errors };
+}
+
+async function openReady(query) {
+  const { page, state, errors } = await openPlayer(query);
   assert.deepEqual(state, ['ready', ''], `player failed: ${state[1]} ${errors.join('; ')}`);
   return page;
 }
@@ -110,14 +97,16 @@ async function capture(page) {
   return { width: c.width, height: c.height, data: Buffer.from(c.rgba, 'base64') };
 }
 
-// PSNR of the RGB channels over the mask pixels, and how many mask pixels the page left empty.
-function compareInMask(test, reference, mask) {
+// PSNR of the RGB channels over the pixels either image covers (alpha ≠ 0), and how many of
+// them only one covers.
+function compareCovered(test, reference) {
   assert.equal(test.width, reference.width);
   assert.equal(test.height, reference.height);
-  let sum = 0, count = 0, uncovered = 0;
+  let sum = 0, count = 0, onlyOne = 0;
   for (let i = 0; i < test.width * test.height; ++i) {
-    if (mask.data[4 * i] < 128) continue;
-    if (test.data[4 * i + 3] === 0) ++uncovered;
+    const a = test.data[4 * i + 3] !== 0, b = reference.data[4 * i + 3] !== 0;
+    if (!a && !b) continue;
+    if (a !== b) ++onlyOne;
     for (let c = 0; c < 3; ++c) {
       const d = test.data[4 * i + c] - reference.data[4 * i + c];
       sum += d * d;
@@ -125,7 +114,7 @@ function compareInMask(test, reference, mask) {
     count += 3;
   }
   return { psnr: sum === 0 ? Infinity : 10 * Math.log10(255 * 255 * count / sum),
-           pixels: count / 3, uncovered };
+           pixels: count / 3, onlyOne };
 }
 
 function objectPixels(image) {
@@ -134,37 +123,61 @@ function objectPixels(image) {
   return n;
 }
 
-test('own pose matches the CPU renderer inside the mask', async () => {
-  const page = await openPlayer(`camera=${CAMERA}`);
-  const shot = await capture(page);
-  const mask = readPng(path.join(work, 'synth', CAMERA, 'mask_0000.png'));
-  const r = compareInMask(shot, readPng(path.join(work, 'own', '0000.png')), mask);
-  console.log(`own pose: PSNR ${r.psnr.toFixed(2)} dB over ${r.pixels} mask pixels, ` +
-              `${r.uncovered} not drawn`);
+test('own pose matches 3dvo-render on the decoded stream', async () => {
+  const page = await openReady(`camera=${CAMERA}`);
+  const r = compareCovered(await capture(page), readPng(path.join(work, 'own', '0000.png')));
+  console.log(`own pose: PSNR ${r.psnr.toFixed(2)} dB over ${r.pixels} pixels, ` +
+              `${r.onlyOne} covered by one image only`);
   assert.ok(r.psnr >= MIN_PSNR_DB, `PSNR ${r.psnr} dB < ${MIN_PSNR_DB} dB`);
-  assert.ok(r.uncovered <= 0.01 * r.pixels, `${r.uncovered} mask pixels not drawn`);
   await page.close();
 });
 
-test('camera left out: the shader blend matches the CPU renderer', async () => {
-  const page = await openPlayer(`camera=${CAMERA}&exclude=${CAMERA}`);
+test('camera left out: the shader blend matches 3dvo-render', async () => {
+  const page = await openReady(`camera=${CAMERA}&exclude=${CAMERA}`);
   const shot = await capture(page);
-  const mask = readPng(path.join(work, 'synth', CAMERA, 'mask_0000.png'));
-  const r = compareInMask(shot, readPng(path.join(work, 'loo', CAMERA, '0000.png')), mask);
-  console.log(`leave-one-out: PSNR ${r.psnr.toFixed(2)} dB over ${r.pixels} mask pixels`);
+  const r = compareCovered(shot, readPng(path.join(work, 'loo', CAMERA, '0000.png')));
+  console.log(`leave-one-out: PSNR ${r.psnr.toFixed(2)} dB over ${r.pixels} pixels`);
   assert.ok(r.psnr >= MIN_PSNR_DB, `PSNR ${r.psnr} dB < ${MIN_PSNR_DB} dB`);
   // And it is a different picture from the own pose's (the camera's texture is really unused).
-  const own = compareInMask(shot, readPng(path.join(work, 'own', '0000.png')), mask);
+  const own = compareCovered(shot, readPng(path.join(work, 'own', '0000.png')));
   assert.ok(own.psnr < r.psnr, 'the left-out camera seems to be used');
   await page.close();
 });
 
-test('draws non-empty frames, plays, orbits and seeks to GOM starts', async () => {
-  const page = await openPlayer('');
+test('a screenshot with a 10 s budget shows the object', async () => {
+  const shot = path.join(work, 'screenshot.png');
+  const url = `${server.url}index.html?stream=streams/synth.3dvo&camera=cam00`;
+  // Asynchronously: this process serves the page.
+  const stderr = await new Promise((resolve) => execFile(chromiumPath, [
+    '--headless=new', '--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader',
+    '--disable-gpu', `--user-data-dir=${path.join(work, 'screenshot-profile')}`,
+    '--virtual-time-budget=10000', '--window-size=640,480', `--screenshot=${shot}`, url,
+  ], { encoding: 'utf8', timeout: 90000 }, (error, stdout, stderr) => resolve(stderr)));
+  assert.ok(fs.existsSync(shot), `no screenshot: ${stderr}`);
+  // The object's region: where cam00's decoded frame 0 has its shape (the canvas is cam00's
+  // size at the page's top left, at cam00's pose).
+  const image = readPng(shot), mask = readPng(path.join(work, 'decoded', 'cam0', '0000.png'));
+  let inside = 0, differs = 0;
+  for (let y = 0; y < mask.height; ++y) {
+    for (let x = 0; x < mask.width; ++x) {
+      if (mask.data[4 * (y * mask.width + x) + 3] === 0) continue;
+      ++inside;
+      const i = 4 * (y * image.width + x);
+      const background = [0x20, 0x22, 0x28];  // the page's (index.html)
+      let d = 0;
+      for (let c = 0; c < 3; ++c) d += Math.abs(image.data[i + c] - background[c]);
+      if (d > 12) ++differs;
+    }
+  }
+  console.log(`screenshot: ${differs} of ${inside} object pixels differ from the background`);
+  assert.ok(inside > 1000 && differs > 0.9 * inside, 'the screenshot does not show the object');
+});
+
+test('plays, orbits, views from a camera and seeks to GOM starts', async () => {
+  const page = await openReady('path=0');
   const first = await capture(page);
   assert.ok(objectPixels(first) > 1000, 'the first frame is (nearly) empty');
-  const screenshot = PNG.sync.read(await page.screenshot());
-  assert.ok(screenshot.width > 0 && screenshot.height > 0);
+  assert.deepEqual(await page.evaluate(() => window.tdvoPlayer.info.cameras.length), 8);
 
   await page.evaluate(() => window.tdvoPlayer.play());
   await page.waitForFunction(() => window.tdvoPlayer.frame >= 2, null, { timeout: 20000 });
@@ -177,9 +190,39 @@ test('draws non-empty frames, plays, orbits and seeks to GOM starts', async () =
   const turned = await capture(page);
   assert.ok(objectPixels(turned) > 1000, 'the orbited view is (nearly) empty');
   assert.notDeepEqual(turned.data, playing.data, 'orbiting does not change the picture');
+  await page.evaluate(() => window.tdvoPlayer.viewFromCamera('cam05'));
+  const fromCamera = await capture(page);
+  assert.notDeepEqual(fromCamera.data, turned.data, 'viewing from a camera does not change the picture');
 
-  // GOM starts are 0 and 2 (gom_starts.txt): seeking to frame 3 lands on 2, to 1 on 0.
+  // GOM starts are 0 and 2 (GOMSize 2): seeking to frame 3 lands on 2, to 1 on 0.
   assert.equal(await page.evaluate(() => window.tdvoPlayer.seekGom(3).then(() => window.tdvoPlayer.frame)), 2);
   assert.equal(await page.evaluate(() => window.tdvoPlayer.seekGom(1).then(() => window.tdvoPlayer.frame)), 0);
+  assert.equal(await page.evaluate(() => window.tdvoPlayer.setFrame(3).then(() => window.tdvoPlayer.frame)), 3);
   await page.close();
+});
+
+test('the automatic camera path turns the view while playing', async () => {
+  const page = await openReady('play=1');
+  const a = await capture(page);
+  await page.waitForFunction(() => window.tdvoPlayer.frame >= 2, null, { timeout: 20000 });
+  const b = await capture(page);
+  assert.notDeepEqual(a.data, b.data);
+  await page.close();
+});
+
+test('a missing, a truncated and a corrupted stream show 3dvo-dec\'s error line', async () => {
+  const cases = ['missing.3dvo', 'truncated.3dvo', 'corrupted.3dvo'];
+  for (const name of cases) {
+    const { page, state } = await openPlayer('', name);
+    const shown = await page.evaluate(() => document.getElementById('status').textContent);
+    const native = nativeError(binDir, path.join(work, name));
+    if (name === 'missing.3dvo') {  // the same line, with HTTP's reason for 3dvo-dec's errno text
+      assert.equal(native, `${name}: cannot open: No such file or directory`);
+      assert.deepEqual(state, ['error', `${name}: cannot open: HTTP 404 Not Found`]);
+    } else {
+      assert.deepEqual(state, ['error', native], name);
+    }
+    assert.equal(shown, `error: ${state[1]}`, `${name}: the page shows one error line`);
+    await page.close();
+  }
 });

@@ -1,76 +1,40 @@
 // Browser test of the WebAssembly decoder (docs/wasm.md; node --test, registered in ctest as
 // wasm_browser_test).
 //
-// Serves the module (scripts/wasm.sh's build-wasm/tdvo_decoder.{js,wasm}) and the conformance
-// streams from 127.0.0.1 and decodes each stream in Debian's headless Chromium through
-// playwright-core: every frame's geometry MD5 line must equal the stream's .md5 log, and a
-// truncated and a corrupted stream must give exactly the message 3dvo-dec prints after
-// "3dvo-dec: error: ".
+// Serves the module (scripts/wasm.sh's build-wasm/tdvo_decoder.{js,wasm}), the player and the
+// conformance streams from 127.0.0.1 and decodes each stream in Debian's headless Chromium
+// through playwright-core: every frame's geometry MD5 line must equal the stream's .md5 log; the
+// player page (index.html?md5=1, WebCodecs for the textures) must give the whole log, texture
+// and header lines included; and a truncated and a corrupted stream must give exactly the
+// message 3dvo-dec prints after "3dvo-dec: error: ".
 //
 // Environment: TDVO_WASM_DIR (the wasm build, default <source>/build-wasm), TDVO_SOURCE_DIR (the
-// checkout), TDVO_BIN_DIR (3dvo-dec), TDVO_CHROMIUM (default /usr/bin/chromium). Without the
-// module the test says so and exits with 77 (ctest's SKIP_RETURN_CODE): run scripts/wasm.sh.
+// checkout), TDVO_BIN_DIR (3dvo-dec), TDVO_PLAYER_DIR (the player folder, default: this file's
+// parent folder), TDVO_CHROMIUM (default /usr/bin/chromium). Without the module the test says so
+// and exits with 77 (ctest's SKIP_RETURN_CODE): run scripts/wasm.sh.
 import assert from 'node:assert/strict';
-import { spawnSync } from 'node:child_process';
 import fs from 'node:fs';
-import http from 'node:http';
 import os from 'node:os';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
+import { fileURLToPath } from 'node:url';
+
+import { serve } from './serve.mjs';
+import { launchChromium, nativeError, requireWasm } from './support.mjs';
 
 const sourceDir = process.env.TDVO_SOURCE_DIR;
-const wasmDir = process.env.TDVO_WASM_DIR || (sourceDir && path.join(sourceDir, 'build-wasm'));
 const binDir = process.env.TDVO_BIN_DIR;
 const chromiumPath = process.env.TDVO_CHROMIUM || '/usr/bin/chromium';
-const SKIP = 77;
+const playerDir = process.env.TDVO_PLAYER_DIR || path.dirname(path.dirname(fileURLToPath(import.meta.url)));
 
 if (!sourceDir || !binDir) {
   console.error('wasm_browser_test: TDVO_SOURCE_DIR and TDVO_BIN_DIR must be set');
   process.exit(1);
 }
-for (const file of ['tdvo_decoder.js', 'tdvo_decoder.wasm']) {
-  if (!fs.existsSync(path.join(wasmDir, file))) {
-    console.log(`SKIP: ${path.join(wasmDir, file)} is missing: the WebAssembly decoder is not ` +
-                `built (bash scripts/wasm.sh builds it; docs/wasm.md)`);
-    process.exit(SKIP);
-  }
-}
-
-const { chromium } = await import('playwright-core');
+const wasmDir = requireWasm();
 const streamsDir = path.join(sourceDir, 'conformance', 'streams');
 const streams = fs.readdirSync(streamsDir).filter((f) => f.endsWith('.3dvo')).sort();
-let work, server, baseUrl, browser, page;
-
-// /wasm/... from the wasm build, /streams/... from the conformance streams, /bad/... from the
-// test's own folder; / is an empty page.
-function serve() {
-  const types = { '.js': 'text/javascript', '.wasm': 'application/wasm', '.html': 'text/html' };
-  const roots = { wasm: wasmDir, streams: streamsDir, bad: work };
-  return http.createServer((request, response) => {
-    const url = decodeURIComponent(new URL(request.url, 'http://x').pathname);
-    const [, root, ...rest] = url.split('/');
-    if (url === '/') {
-      response.writeHead(200, { 'Content-Type': 'text/html' });
-      response.end('<!doctype html><title>tdvo wasm</title>');
-      return;
-    }
-    if (!roots[root] || rest.some((p) => p === '..')) {
-      response.writeHead(404);
-      response.end();
-      return;
-    }
-    const file = path.join(roots[root], ...rest);
-    fs.readFile(file, (error, bytes) => {
-      if (error) {
-        response.writeHead(404);
-        response.end();
-        return;
-      }
-      response.writeHead(200, { 'Content-Type': types[path.extname(file)] || 'application/octet-stream' });
-      response.end(bytes);
-    });
-  });
-}
+let work, server, browser, page;
 
 // Decodes /<url> in the page under `name`: { lines: the geometry MD5 lines, error: the message }.
 async function decodeInBrowser(url, name) {
@@ -92,35 +56,17 @@ async function decodeInBrowser(url, name) {
   }, [url, name]);
 }
 
-// What 3dvo-dec prints for `file` (run in its folder, named as in the browser).
-function nativeDecode(file) {
-  const r = spawnSync(path.join(binDir, '3dvo-dec'), ['-i', path.basename(file)],
-                      { cwd: path.dirname(file), encoding: 'utf8' });
-  const prefix = '3dvo-dec: error: ';
-  const errorLine = r.stderr.split('\n').find((l) => l.startsWith(prefix));
-  return { status: r.status, error: errorLine ? errorLine.slice(prefix.length) : '' };
-}
-
 before(async () => {
-  assert.ok(fs.existsSync(chromiumPath),
-            `${chromiumPath} is missing: install Debian's chromium (scripts/packages.txt)`);
   work = fs.mkdtempSync(path.join(os.tmpdir(), 'tdvo-wasm-'));
-  server = serve();
-  await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve));
-  baseUrl = `http://127.0.0.1:${server.address().port}/`;
-  browser = await chromium.launch({
-    executablePath: chromiumPath,
-    headless: true,
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-           '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-  });
+  server = await serve({ '': playerDir, wasm: wasmDir, streams: streamsDir, bad: work });
+  browser = await launchChromium(chromiumPath, path.join(work, 'chromium-profile'));
   page = await browser.newPage();
-  await page.goto(baseUrl);
+  await page.goto(`${server.url}index.html`);  // the player without a stream: waits for a file
 });
 
 after(async () => {
   if (browser) await browser.close();
-  if (server) server.close();
+  if (server) await server.close();
   if (work) fs.rmSync(work, { recursive: true, force: true });
 });
 
@@ -186,10 +132,30 @@ test('truncated and corrupted streams give 3dvo-dec\'s error message', async () 
   for (const [name, data] of Object.entries(cases)) {
     const file = path.join(work, name);
     fs.writeFileSync(file, data);
-    const native = nativeDecode(file);
-    assert.notEqual(native.status, 0, `${name}: 3dvo-dec accepted it`);
-    assert.notEqual(native.error, '', `${name}: 3dvo-dec printed no error line`);
+    const native = nativeError(binDir, file);
+    assert.notEqual(native, '', `${name}: 3dvo-dec printed no error line`);
     const got = await decodeInBrowser(`/bad/${name}`, name);
-    assert.equal(got.error, native.error, name);
+    assert.equal(got.error, native, name);
+  }
+});
+
+// The player page decodes each stream as it plays it (geometry with the module, textures with
+// WebCodecs) and hashes every frame: md5Lines() is the whole log, as 3dvo-dec --verify compares.
+test('every conformance stream: the player page gives its whole MD5 log', async () => {
+  for (const stream of streams) {
+    const expected = fs.readFileSync(path.join(streamsDir, stream.replace(/\.3dvo$/, '.md5')), 'utf8')
+                       .split('\n').filter((l) => l.startsWith('MD5 '));
+    const player = await browser.newPage();
+    await player.goto(`${server.url}index.html?stream=streams/${stream}&md5=1`);
+    await player.waitForFunction(() => window.tdvoPlayer && (window.tdvoPlayer.state === 'error' ||
+        window.tdvoPlayer.md5Lines().some((l) => l.startsWith('MD5 header='))), null, { timeout: 60000 });
+    const [state, error, lines, note] = await player.evaluate(() => {
+      const p = window.tdvoPlayer;
+      return [p.state, p.error, p.md5Lines(), document.getElementById('status').textContent];
+    });
+    assert.deepEqual([state, error], ['ready', ''], stream);
+    assert.ok(!/without textures/.test(note), `${stream}: ${note}`);
+    assert.deepEqual(lines, expected, stream);
+    await player.close();
   }
 });
