@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The browser player's decoding speed next to the native decoder (docs/performance.md, "In the
 # browser"): makes the two streams of issue 20's targets from ../shared/data and runs
-# bench/wasm_decode_bench.mjs on each.
+# bench/wasm_decode_bench.mjs (decoding speed) and bench/player_fps.mjs (the page playing it)
+# on each.
 #
 #   uu-4cam: 3dvo-recon's tracked reconstruction of the first 100 frames of uu-4cam
 #            (cfg/recon/uu-4cam.cfg), coded with its GOM list and the 4 cameras' textures
@@ -63,5 +64,10 @@ export TDVO_BIN_DIR="$bin" TDVO_PLAYER_DIR="${TDVO_PLAYER_DIR:-$build/player}"
 for stream in uu samba; do
   echo "## $stream ($(stat -c %s "$work/$stream.3dvo") bytes)"
   node "$here/wasm_decode_bench.mjs" "$work/$stream.3dvo" "$runs"
+  echo "### the player page playing it (software GL)"
+  for size in 960x540 320x180; do
+    node "$here/player_fps.mjs" "$work/$stream.3dvo" 10 "$size"
+  done
+  node "$here/player_fps.mjs" "$work/$stream.3dvo" 10 --no-draw
   echo
 done

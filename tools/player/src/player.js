@@ -16,6 +16,7 @@
 //   exclude=NAME,...  cameras whose textures are not used (leave-one-out views)
 //   md5=1             hash every decoded frame as 3dvo-dec does (md5Lines()) and play the stream
 //                     once through as fast as it decodes
+//   draw=0            decode and play without drawing (a bench of decoding: bench/player_fps.mjs)
 //
 // window.tdvoPlayer is the page's test interface: state ('loading' | 'ready' | 'error'), error,
 // info (the stream's), frame (stream frame index), playing, setFrame(n), seekGom(n), play(),
@@ -343,21 +344,23 @@ async function main() {
   const renderTiming = { framesDrawn: 0, renderMs: 0 };
   api.timing = Object.assign(stream.timing, { render: renderTiming });
 
+  const drawing = params.get('draw') !== '0';
   function show(frame) {
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.BufferAttribute(frame.positions, 3));
     geometry.setIndex(new THREE.BufferAttribute(frame.triangles, 1));
     mesh.geometry.dispose();
     mesh.geometry = geometry;
+    api.frame = frame.index;
+    updateUi();
+    if (!drawing) return;
     if (textured && frame.pictures) {
       showPictures(frame.pictures);
       drawDepthMaps();
       mesh.material = blendMaterial;
     }
-    api.frame = frame.index;
     // The automatic path moves with the frames (no extra draws: software GL is slow).
     if (api.playing && pathOn) path.apply(view, controls.target, performance.now() / 1000);
-    updateUi();
     draw();
   }
 
@@ -423,11 +426,14 @@ async function main() {
   const path = cameras.length > 1 ? new ViewPath(cameras, centre, up) : null;
   controls.addEventListener('start', () => { pathOn = false; });
   controls.addEventListener('change', draw);
-  let lastTick = 0, pending = false;
+  // Frame k is due at the start time + k periods, whatever the display's refresh rate; a page
+  // that falls behind shows the next frame at once rather than catching up in a burst.
+  let due = 0, pending = false;
+  const period = 1000 / info.frameRate;
   function tick(time) {
     if (api.state === 'error') return;
-    if (api.playing && !pending && (md5Run || time - lastTick >= 1000 / info.frameRate)) {
-      lastTick = time;
+    if (api.playing && !pending && (md5Run || time >= due)) {
+      due = Math.max(due + period, time - period / 2);
       pending = true;
       job(advance).finally(() => { pending = false; });
     }

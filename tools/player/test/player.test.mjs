@@ -28,6 +28,7 @@ import { serve } from './serve.mjs';
 // rounding and coverage rules at silhouette pixels.
 const MIN_PSNR_DB = 40;
 const CAMERA = 'cam03';
+const CAMERA_INDEX = 3;  // 3dvo-dec names camera folders by index: decoded/cam3/
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const playerDir = process.env.TDVO_PLAYER_DIR || path.dirname(here);
@@ -117,6 +118,22 @@ function compareCovered(test, reference) {
            pixels: count / 3, onlyOne };
 }
 
+// PSNR of the RGB channels over the object's pixels in `truth` (alpha ≠ 0).
+function psnrOnObject(test, truth) {
+  assert.equal(test.width, truth.width);
+  assert.equal(test.height, truth.height);
+  let sum = 0, count = 0;
+  for (let i = 0; i < truth.width * truth.height; ++i) {
+    if (truth.data[4 * i + 3] === 0) continue;
+    for (let c = 0; c < 3; ++c) {
+      const d = test.data[4 * i + c] - truth.data[4 * i + c];
+      sum += d * d;
+    }
+    count += 3;
+  }
+  return sum === 0 ? Infinity : 10 * Math.log10(255 * 255 * count / sum);
+}
+
 function objectPixels(image) {
   let n = 0;
   for (let i = 3; i < image.data.length; i += 4) if (image.data[i] !== 0) ++n;
@@ -141,6 +158,15 @@ test('camera left out: the shader blend matches 3dvo-render', async () => {
   // And it is a different picture from the own pose's (the camera's texture is really unused).
   const own = compareCovered(shot, readPng(path.join(work, 'own', '0000.png')));
   assert.ok(own.psnr < r.psnr, 'the left-out camera seems to be used');
+  // Issue 20's acceptance: as a view of the object, the page's picture is within 1 dB of the CPU
+  // renderer's, both measured against what the left-out camera saw (its decoded picture, on the
+  // object's pixels: the shape 3dvo-dec puts in its alpha).
+  const truth = readPng(path.join(work, 'decoded', `cam${CAMERA_INDEX}`, '0000.png'));
+  const pagePsnr = psnrOnObject(shot, truth);
+  const cpuPsnr = psnrOnObject(readPng(path.join(work, 'loo', CAMERA, '0000.png')), truth);
+  console.log(`leave-one-out against ${CAMERA}'s picture: page ${pagePsnr.toFixed(2)} dB, ` +
+              `3dvo-render ${cpuPsnr.toFixed(2)} dB`);
+  assert.ok(Math.abs(pagePsnr - cpuPsnr) <= 1, `page ${pagePsnr} dB, 3dvo-render ${cpuPsnr} dB`);
   await page.close();
 });
 
