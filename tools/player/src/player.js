@@ -28,7 +28,7 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { cameraCentre, setIntrinsics, setPose } from './camera_math.js';
 import { blendFragment, blendVertex, convertFragment, convertVertex, depthFragment, depthVertex }
   from './shaders.js';
-import { FrameStream, readInto } from './stream.js';
+import { FrameStream, INTERRUPTED, readInto } from './stream.js';
 import { upDirection, ViewPath } from './view_path.js';
 
 const params = new URLSearchParams(window.location.search);
@@ -407,19 +407,23 @@ async function main() {
   }
   async function advance() {
     let frame = await stream.next();
+    if (frame === INTERRUPTED) return;  // a seek came: it shows its frame
     if (!frame) {  // past the last frame: from the start again
       if (md5Run) { api.pause(); return; }
       await stream.seek(0, setBuffering);
       frame = await stream.next();
     }
-    show(frame);
+    if (frame && frame !== INTERRUPTED) show(frame);
   }
   function setBuffering(on) { buffering = on; showStatus(); }
   // Shows frame n exactly: from the GOM start at or before it, decoding forward.
   async function showExactly(n) {
     const s = await stream.seek(n, setBuffering);
     let frame = null;
-    for (let i = s; i <= n; ++i) frame = await stream.next();
+    for (let i = s; i <= n; ++i) {
+      frame = await stream.next();
+      if (frame === INTERRUPTED) return;  // a later seek: it shows its frame
+    }
     if (frame) show(frame);
   }
   let pathOn = params.get('path') !== '0' && cameras.length > 1 && !md5Run;
@@ -441,13 +445,21 @@ async function main() {
   }
   api.play = () => { api.playing = true; if (path) path.restart(); updateUi(); };
   api.pause = () => { api.playing = false; updateUi(); };
-  api.setFrame = (n) => job(() => showExactly(Math.min(Math.max(0, n | 0), count - 1)));
-  api.seekGom = (n) => job(async () => {
-    const s = await stream.seek(Math.min(Math.max(0, n | 0), count - 1), setBuffering);
-    const frame = await stream.next();
-    if (frame) show(frame);
-    return s;
-  });
+  // A seek calls off the decodes queued before it (playback waiting for bytes, say) at once,
+  // then runs as the next job.
+  api.setFrame = (n) => {
+    stream.interrupt();
+    return job(() => showExactly(Math.min(Math.max(0, n | 0), count - 1)));
+  };
+  api.seekGom = (n) => {
+    stream.interrupt();
+    return job(async () => {
+      const s = await stream.seek(Math.min(Math.max(0, n | 0), count - 1), setBuffering);
+      const frame = await stream.next();
+      if (frame && frame !== INTERRUPTED) show(frame);
+      return s;
+    });
+  };
   api.viewFromCamera = (name) => {
     const c = cameras.find((x) => x.name === name);
     if (!c) throw new Error(`no camera named '${name}'`);

@@ -6,6 +6,9 @@ import { CameraVideo, codecString, isIdr, webCodecsProblem } from './textures.js
 
 const AHEAD = 4;  // frames decoded ahead of the one shown (bounded memory)
 
+// What next() gives for a frame whose decoding a seek called off.
+export const INTERRUPTED = Symbol('interrupted');
+
 // Reads `source` ({url} or {file}) into the decoder, calling progress(received, total) per chunk
 // (total: null when unknown). A missing file is an error worded as 3dvo-dec words it.
 export async function readInto(source, name, stream, progress) {
@@ -41,7 +44,8 @@ export async function readInto(source, name, stream, progress) {
 
 // The decoded stream. Every decoder call runs in one promise chain (`work`), so that seeks and
 // decodes never interleave; frames are {index, number, positions, triangles, gomStart,
-// pictures: null | [per camera I420 planes]}.
+// pictures: null | [per camera I420 planes]}. A decode waiting for bytes does not hold up a
+// seek: interrupt() (which seek() calls) makes the waiting decodes give INTERRUPTED instead.
 export class FrameStream {
   constructor(tdvo, name, { md5 = false } = {}) {
     this.tdvo = tdvo;
@@ -52,6 +56,7 @@ export class FrameStream {
     this.waiters = [];
     this.work = Promise.resolve();
     this.queue = [];
+    this.generation = 0;  // advanced by interrupt(): decodes of an older one are called off
     this.videos = null;
     this.textureNote = '';
     this.timing = { framesDecoded: 0, geometryMs: 0, textureMs: 0, firstAt: 0, lastAt: 0 };
@@ -134,14 +139,24 @@ export class FrameStream {
     });
   }
 
-  // The next frame in decode order (null after the last), decoding up to AHEAD frames ahead.
+  // The next frame in decode order (null after the last; INTERRUPTED when a seek called it
+  // off), decoding up to AHEAD frames ahead.
   next() {
     while (this.queue.length < AHEAD) {
       // The chain waits for the geometry only: the job's result is wrapped in an array, which
       // a promise chain does not unwrap, so textures of several frames decode at once.
-      this.queue.push(this.schedule(() => this.decodeNext()).then(([frame]) => frame));
+      const generation = this.generation;
+      this.queue.push(this.schedule(() => this.decodeNext(generation)).then(([frame]) => frame));
     }
     return this.queue.shift();
+  }
+
+  // Calls off the decodes queued so far (those waiting for bytes give INTERRUPTED at once), so
+  // that a seek need not wait for bytes the frames before it would have needed.
+  interrupt() {
+    ++this.generation;
+    for (const f of this.queue.splice(0)) f.catch(() => {});
+    this.wake();
   }
 
   schedule(job) {
@@ -150,13 +165,15 @@ export class FrameStream {
     return result;
   }
 
-  async decodeNext() {
+  async decodeNext(generation) {
+    if (generation !== this.generation) return [INTERRUPTED];
     if (this.pending !== undefined) {  // the frame open() decoded
       const frame = this.pending;
       this.pending = undefined;
       return [frame];
     }
-    await this.until(() => this.decoder.canDecodeNext());
+    await this.until(() => generation !== this.generation || this.decoder.canDecodeNext());
+    if (generation !== this.generation) return [INTERRUPTED];
     if (!this.decoder.next()) {  // the end: out with the pictures a decoder still holds
       if (this.videos) await Promise.all(this.videos.map((v) => v.flush()));
       return [null];
@@ -171,8 +188,7 @@ export class FrameStream {
   // start's index once it has arrived and the next() frame is that start. `buffering(true)` is
   // called while waiting for bytes.
   seek(index, buffering) {
-    const queued = this.queue.splice(0);
-    for (const f of queued) f.catch(() => {});
+    this.interrupt();
     return this.schedule(async () => {
       const first = this.info.firstFrame;
       const known = () => this.finished || this.gomStarts().some((s) => s - first > index);

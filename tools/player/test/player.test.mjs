@@ -227,6 +227,34 @@ test('plays, orbits, views from a camera and seeks to GOM starts', async () => {
   await page.close();
 });
 
+test('plays the first GOM while the rest of the stream is still on its way', async () => {
+  const bytes = fs.statSync(path.join(work, 'synth.3dvo')).size;
+  const held = Math.floor(bytes * 0.75);  // both GOMs' headers, not the second GOM's end
+  const slow = await serve({ '': playerDir, wasm: wasmDir, streams: work },
+                           { hold: { '/streams/synth.3dvo': held } });
+  const page = await browser.newPage();
+  try {
+    await page.goto(`${slow.url}index.html?stream=streams/synth.3dvo&path=0`);
+    await page.waitForFunction(() => window.tdvoPlayer && window.tdvoPlayer.state !== 'loading',
+                               null, { timeout: 30000 });
+    const [state, error] = await page.evaluate(() => [window.tdvoPlayer.state, window.tdvoPlayer.error]);
+    assert.equal(state, 'ready', error);
+    const status = await page.evaluate(() => document.getElementById('status').textContent);
+    assert.match(status, new RegExp(`received ${held} of ${bytes} bytes`));
+    assert.ok(objectPixels(await capture(page)) > 1000, 'frame 0 is not shown');
+    // The first GOM plays; the second waits for the rest.
+    await page.evaluate(() => window.tdvoPlayer.setFrame(1));
+    assert.equal(await page.evaluate(() => window.tdvoPlayer.frame), 1);
+    slow.release('/streams/synth.3dvo');
+    await page.evaluate(() => window.tdvoPlayer.setFrame(3));
+    assert.equal(await page.evaluate(() => window.tdvoPlayer.frame), 3);
+  } finally {
+    slow.release('/streams/synth.3dvo');
+    await page.close();
+    await slow.close();
+  }
+});
+
 test('the automatic camera path turns the view while playing', async () => {
   const page = await openReady('play=1');
   const a = await capture(page);

@@ -8,6 +8,10 @@
 //
 // A request's first path segment picks the folder (the '' folder serves every other path; '/'
 // is index.html there, or an empty page without one); '..' segments and missing files are 404.
+//
+// A download that stalls (for the page's progressive playback): serve(roots, { hold: {
+// '/streams/x.3dvo': n } }) sends the first n bytes of that file at once and the rest only after
+// server.release('/streams/x.3dvo').
 import fs from 'node:fs';
 import http from 'node:http';
 import path from 'node:path';
@@ -44,7 +48,13 @@ function fileFor(roots, url) {
   return path.join(roots[''], ...(url === '/' ? ['index.html'] : parts));
 }
 
-export async function serve(roots) {
+export async function serve(roots, { hold = {} } = {}) {
+  const released = {};
+  for (const url of Object.keys(hold)) {
+    let release;
+    const promise = new Promise((resolve) => { release = resolve; });
+    released[url] = { promise, release };
+  }
   const server = http.createServer((request, response) => {
     const url = decodeURIComponent(new URL(request.url, 'http://x').pathname);
     const file = fileFor(roots, url);
@@ -75,12 +85,19 @@ export async function serve(roots) {
         response.end();
         return;
       }
+      if (hold[url] !== undefined && !range && hold[url] < end) {
+        fs.createReadStream(file, { start, end: hold[url] - 1 }).pipe(response, { end: false })
+          .once('unpipe', () => released[url].promise.then(
+              () => fs.createReadStream(file, { start: hold[url], end }).pipe(response)));
+        return;
+      }
       fs.createReadStream(file, { start, end }).pipe(response);
     });
   });
   await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve));
   return {
     url: `http://127.0.0.1:${server.address().port}/`,
+    release: (url) => released[url].release(),
     close: () => new Promise((resolve) => {
       server.closeAllConnections();
       server.close(resolve);
