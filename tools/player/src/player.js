@@ -17,6 +17,8 @@
 //   md5=1             hash every decoded frame as 3dvo-dec does (md5Lines()) and play the stream
 //                     once through as fast as it decodes
 //   draw=0            decode and play without drawing (a bench of decoding: bench/player_fps.mjs)
+//   gpu=MiB           GPU memory the textures may take (default 1024): depth maps at the
+//                     cameras' size, the boxes' planes; over it the page plays untextured
 //
 // window.tdvoPlayer is the page's test interface: state ('loading' | 'ready' | 'error'), error,
 // info (the stream's), frame (stream frame index), playing, setFrame(n), seekGom(n), play(),
@@ -60,14 +62,14 @@ async function loadDecoder() {
 }
 
 // Per-camera parameters as a float texture (layout in src/shaders.js).
-function cameraTexture(cameras) {
+function cameraTexture(cameras, excluded) {
   const data = new Float32Array(Math.max(1, cameras.length) * 8 * 4);
   cameras.forEach((c, i) => {
     const o = i * 32;
     for (let r = 0; r < 3; ++r) data.set([...c.R.slice(3 * r, 3 * r + 3), c.t[r]], o + 4 * r);
     data.set([c.fx, c.fy, c.cx, c.cy], o + 12);
     data.set(c.distortion.slice(0, 4), o + 16);
-    data.set([c.distortion[4], c.width, c.height, 0], o + 20);
+    data.set([c.distortion[4], c.width, c.height, excluded.has(c.name) ? 0 : 1], o + 20);
     data.set([c.box.x, c.box.y, c.box.width, c.box.height], o + 24);
     data.set([...cameraCentre(rows(c.R), c.t), 0], o + 28);
   });
@@ -79,6 +81,33 @@ function cameraTexture(cameras) {
 }
 
 function rows(R) { return [R.slice(0, 3), R.slice(3, 6), R.slice(6, 9)]; }
+
+// The GPU memory the page may take for a stream's textures (gpu=MiB, default 1024): per camera
+// a float depth map at the camera's size with its depth buffer, and the texture box as Y, U, V
+// planes and RGB.
+const gpuBudgetMiB = Number(params.get('gpu') || 1024);
+
+// '' when this GPU holds what the cameras need (texture sizes, array layers, the budget above);
+// else what is missing, in one line. A stream's header may declare 64 cameras of 16384 × 16384
+// (the decoder refuses a camera larger than the stream's size allows, MaxTexturePixelsPerByte,
+// but 64 cameras within it can still ask for gigabytes): that must not become the allocations.
+function gpuLimitsProblem(renderer, cameras) {
+  const gl = renderer.getContext();
+  const maxSide = gl.getParameter(gl.MAX_TEXTURE_SIZE);
+  const maxLayers = gl.getParameter(gl.MAX_ARRAY_TEXTURE_LAYERS);
+  const w = Math.max(...cameras.map((c) => c.width)), h = Math.max(...cameras.map((c) => c.height));
+  const bw = Math.max(...cameras.map((c) => c.box.width));
+  const bh = Math.max(...cameras.map((c) => c.box.height));
+  if (Math.max(w, h, bw, bh) > maxSide)
+    return `the cameras' ${w}x${h} images exceed this GPU's ${maxSide}-pixel textures`;
+  if (cameras.length > maxLayers)
+    return `${cameras.length} cameras exceed this GPU's ${maxLayers} texture layers`;
+  const bytes = cameras.length * (w * h * 8 + bw * bh * (1.5 + 4));
+  if (!(bytes <= gpuBudgetMiB * 2 ** 20))
+    return `the ${cameras.length} cameras of ${w}x${h} need ${Math.ceil(bytes / 2 ** 20)} MiB of ` +
+           `GPU memory, more than the page's ${gpuBudgetMiB} MiB (gpu=)`;
+  return '';
+}
 
 // One plane of every camera's box as a single-channel array texture, a layer per camera.
 function planeTexture(width, height, layers) {
@@ -135,7 +164,12 @@ async function main() {
   if (!first) throw new Error(`${source.name}: the stream has no frames`);
 
   const cameras = info.cameras;
-  const textured = cameras.length > 0 && stream.videos !== null;
+  let textured = cameras.length > 0 && stream.videos !== null;
+  const gpuProblem = textured ? gpuLimitsProblem(renderer, cameras) : '';
+  if (gpuProblem) {
+    stream.dropTextures(gpuProblem + ': playing without textures');
+    textured = false;
+  }
   const weights = { direction: 'axis', sharpness: 4, depthTolerance: 0.01, fallback: 'nearest',
                     fallbackColour: [128, 128, 128], background: [0, 0, 0] };
   if (params.has('direction')) weights.direction = params.get('direction');
@@ -143,8 +177,8 @@ async function main() {
   if (params.has('tolerance')) weights.depthTolerance = Number(params.get('tolerance'));
   if (params.has('fallback')) weights.fallback = params.get('fallback');
   const excluded = new Set((params.get('exclude') || '').split(',').filter((s) => s));
-  let useMask = 0;
-  cameras.forEach((c, i) => { if (i < 32 && !excluded.has(c.name)) useMask |= 1 << i; });
+  for (const name of excluded)
+    if (!cameras.some((c) => c.name === name)) throw new Error(`exclude: no camera named '${name}' in the stream`);
 
   // The object: centre of the first frame's bounding box (as the CPU renderer's orbit), and a
   // sphere around the grid's cube, which holds every frame (near and far planes).
@@ -229,7 +263,7 @@ async function main() {
         Math.max(...cameras.map((c) => c.width)), Math.max(...cameras.map((c) => c.height)),
         cameras.length, { type: THREE.FloatType, format: THREE.RedFormat, depthBuffer: true });
     depthTarget.texture.minFilter = depthTarget.texture.magFilter = THREE.NearestFilter;
-    const cameraData = cameraTexture(cameras);
+    const cameraData = cameraTexture(cameras, excluded);
     const depthMaterial = new THREE.ShaderMaterial({
       glslVersion: THREE.GLSL3,
       vertexShader: depthVertex,
@@ -271,7 +305,6 @@ async function main() {
         uRgb: { value: rgbTarget.texture },
         uDepth: { value: depthTarget.texture },
         uCount: { value: cameras.length },
-        uUseMask: { value: useMask >>> 0 },
         uViewCentre: { value: new THREE.Vector3() },
         uViewAxis: { value: new THREE.Vector3() },
         uDirection: { value: weights.direction === 'axis' ? 1 : 0 },

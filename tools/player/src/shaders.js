@@ -5,7 +5,8 @@
 // Per-camera parameters live in a float texture (uCameras, 8 texels per camera, one row each)
 // so that the camera count is not limited by the uniform space:
 //   texel 0..2: rows of R with t.x, t.y, t.z in w      texel 3: fx, fy, cx, cy
-//   texel 4: k1, k2, p1, p2                            texel 5: k3, width, height, 0
+//   texel 4: k1, k2, p1, p2                            texel 5: k3, width, height, used
+//   (used: 1, or 0 for a camera left out with exclude=)
 //   texel 6: texture box x, y, width, height          texel 7: camera centre, 0
 
 const cameraCommon = /* glsl */ `
@@ -175,7 +176,6 @@ ${cameraCommon}
 uniform highp sampler2DArray uRgb;    // per camera its box's RGB (the conversion pass)
 uniform highp sampler2DArray uDepth;  // per camera 1 / z, layer = camera
 uniform int uCount;
-uniform uint uUseMask;                // bit i set: camera i may be used (first 32 cameras)
 uniform vec3 uViewCentre;
 uniform vec3 uViewAxis;
 uniform int uDirection;               // 0: ray, 1: axis
@@ -196,7 +196,7 @@ void main() {
   vec3 nearestColour = vec3(0.0);
   bool haveNearest = false;
   for (int i = 0; i < uCount; ++i) {
-    if (i < 32 && (uUseMask & (1u << uint(i))) == 0u) continue;
+    if (texelFetch(uCameras, ivec2(5, i), 0).w == 0.0) continue;  // left out (exclude=)
     Cam c = fetchCamera(i);
     vec3 q = c.R * P + c.t;
     if (!(q.z > 0.0)) continue;

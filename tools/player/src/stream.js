@@ -102,6 +102,13 @@ export class FrameStream {
     return this.info;
   }
 
+  // Plays on without textures (`note` says why): the texture decoders are closed.
+  dropTextures(note) {
+    if (this.videos) for (const v of this.videos) v.close();
+    this.videos = null;
+    this.textureNote = note;
+  }
+
   // The decoder's current frame, copied out of the module's memory, its textures on their way.
   takeFrame() {
     const d = this.decoder, start = performance.now();

@@ -15,6 +15,7 @@
 import assert from 'node:assert/strict';
 import { execFile, execFileSync } from 'node:child_process';
 import fs from 'node:fs';
+import zlib from 'node:zlib';
 import os from 'node:os';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
@@ -66,6 +67,7 @@ before(async () => {
   const corrupted = Buffer.from(bytes);
   corrupted[Math.floor(bytes.length * 0.3)] ^= 0x20;
   fs.writeFileSync(path.join(work, 'corrupted.3dvo'), corrupted);
+  fs.writeFileSync(path.join(work, 'huge.3dvo'), withCameraSize(bytes, 4500, 4500));
   server = await serve({ '': playerDir, wasm: wasmDir, streams: work });
   browser = await launchChromium(chromiumPath, path.join(work, 'chromium-profile'));
 });
@@ -75,6 +77,24 @@ after(async () => {
   if (server) await server.close();
   if (work) fs.rmSync(work, { recursive: true, force: true });
 });
+
+// The stream with every camera's image size set to w × h in its sequence header (CRC redone):
+// docs/bitstream.md section 2, syntax version 3.
+function withCameraSize(stream, w, h) {
+  const out = Buffer.from(stream);
+  const payload = 4 + 5, size = out.readUInt32LE(5);
+  let at = payload + 52;  // sh_num_cameras: after 2+4+4+8+1+24+8+1 bytes
+  const cameras = out.readUInt16LE(at);
+  at += 2;
+  for (let c = 0; c < cameras; ++c) {
+    at += 2 + out.readUInt16LE(at);  // cam_name
+    out.writeUInt16LE(w, at);
+    out.writeUInt16LE(h, at + 2);
+    at += 4 + 176;  // intrinsics, distortion, R, t, texture box
+  }
+  out.writeUInt32LE(zlib.crc32(out.subarray(4, payload + size)), payload + size);
+  return out;
+}
 
 async function openPlayer(query, stream = 'synth.3dvo') {
   const page = await browser.newPage();
@@ -253,6 +273,25 @@ test('plays the first GOM while the rest of the stream is still on its way', asy
     await page.close();
     await slow.close();
   }
+});
+
+// A header may declare cameras of 16384 x 16384 pixels. The decoder refuses a camera larger than
+// the stream's size allows (MaxTexturePixelsPerByte), with 3dvo-dec's message; within that, the
+// page does not allocate more GPU memory for the depth maps and planes than its budget (gpu=MiB,
+// default 1024): over it, the geometry plays and the page says why there are no textures.
+test('cameras too large: 3dvo-dec\'s limit, then the page\'s GPU budget', async () => {
+  const huge = await openPlayer('path=0', 'huge.3dvo');
+  const native = nativeError(binDir, path.join(work, 'huge.3dvo'));
+  assert.match(native, /MaxTexturePixelsPerByte/);
+  assert.deepEqual(huge.state, ['error', native]);
+  await huge.page.close();
+
+  const { page, state } = await openPlayer('path=0&gpu=1');
+  assert.deepEqual(state, ['ready', '']);
+  const status = await page.evaluate(() => document.getElementById('status').textContent);
+  assert.match(status, /the 8 cameras of \d+x\d+ need \d+ MiB of GPU memory, more than the page's 1 MiB \(gpu=\): playing without textures/);
+  assert.ok(objectPixels(await capture(page)) > 1000, 'the geometry is not shown');
+  await page.close();
 });
 
 test('the automatic camera path turns the view while playing', async () => {
