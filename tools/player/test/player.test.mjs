@@ -294,6 +294,22 @@ test('cameras too large: 3dvo-dec\'s limit, then the page\'s GPU budget', async 
   await page.close();
 });
 
+test('a local file chosen on the page plays', async () => {
+  const page = await browser.newPage();
+  try {
+    await page.goto(`${server.url}index.html`);
+    await page.waitForFunction(() => /drop a \.3dvo file/.test(document.getElementById('status').textContent));
+    await page.setInputFiles('#file', path.join(work, 'synth.3dvo'));
+    await page.waitForFunction(() => window.tdvoPlayer.state !== 'loading', null, { timeout: 30000 });
+    assert.deepEqual(await page.evaluate(() => [window.tdvoPlayer.state, window.tdvoPlayer.error]),
+                     ['ready', '']);
+    assert.equal(await page.evaluate(() => window.tdvoPlayer.info.frameCount), 4);
+    assert.ok(objectPixels(await capture(page)) > 1000, 'the first frame is (nearly) empty');
+  } finally {
+    await page.close();
+  }
+});
+
 test('the automatic camera path turns the view while playing', async () => {
   const page = await openReady('play=1');
   const a = await capture(page);
