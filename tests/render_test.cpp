@@ -1,15 +1,12 @@
 // The view-dependent renderer (tools/render): own-pose reproduction on the synthetic rig (the
-// acceptance bound of 40 dB), leave-one-out, visibility, camera paths, MP4 output, the player
-// export and the 3dvo-render app.
+// acceptance bound of 40 dB), leave-one-out, visibility, camera paths, MP4 output and the
+// 3dvo-render app.
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <nlohmann/json.hpp>
 
 #include "common/core/error.h"
-#include "common/core/gom_list.h"
 #include "common/core/obj_io.h"
 #include "common/media/png_io.h"
 #include "common/media/video_reader.h"
@@ -19,7 +16,6 @@
 #include "tools/render/camera_path.h"
 #include "tools/render/leave_one_out.h"
 #include "tools/render/mp4_writer.h"
-#include "tools/render/player_export.h"
 #include "tools/render/view_renderer.h"
 
 using namespace tdvo;
@@ -315,51 +311,6 @@ TEST(Mp4Writer, PlantedPartialLinkIsNotFollowedAndALinkedOutputKeepsItsLink) {
   EXPECT_GT(fs::file_size(dir.file("target.mp4")), 100u);
   EXPECT_EQ(test::listFolder(dir.path()),
             (std::vector<std::string>{"out.mp4", "out.mp4.partial", "target.mp4", "victim"}));
-}
-
-TEST_F(SynthRig, PlayerExportWritesSceneMeshesAndAtlases) {
-  test::TempDir dir("export");
-  test::writeText(dir.file("goms.txt"), "0, 1  # two GOMs\n");
-  PlayerExportParams p;
-  p.output = dir.file("player");
-  p.frames = {0, 1};
-  p.gomStarts = readGomStarts(dir.file("goms.txt"));
-  exportPlayerData(*dataset_, p);
-  const nlohmann::json scene = nlohmann::json::parse(test::readText(dir.file("player/scene.json")));
-  EXPECT_EQ(scene["format"], "3dvo-player");
-  EXPECT_EQ(scene["frames"]["count"], 2);
-  EXPECT_EQ(scene["gomStarts"], nlohmann::json::array({0, 1}));
-  EXPECT_EQ(scene["atlas"]["columns"], 3);  // ceil(sqrt(8))
-  EXPECT_EQ(scene["atlas"]["width"], 960);
-  EXPECT_EQ(scene["atlas"]["height"], 720);
-  ASSERT_EQ(scene["cameras"].size(), 8u);
-  EXPECT_EQ(scene["cameras"][4]["atlasX"], 320);
-  EXPECT_EQ(scene["cameras"][4]["atlasY"], 240);
-  EXPECT_EQ(scene["cameras"][4]["t"][2], dataset_->cameras[4].camera.t[2]);
-
-  const Mesh mesh = readDatasetMesh(*dataset_, 1);
-  const std::vector<uint8_t> bin = test::readBytes(dir.file("player/meshes/0001.bin"));
-  ASSERT_EQ(bin.size(), 8 + 12 * (mesh.positions.size() + mesh.triangles.size()));
-  uint32_t header[2];
-  std::memcpy(header, bin.data(), 8);
-  EXPECT_EQ(header[0], mesh.positions.size());
-  EXPECT_EQ(header[1], mesh.triangles.size());
-  float first[3];
-  std::memcpy(first, bin.data() + 8, 12);
-  EXPECT_EQ(first[2], static_cast<float>(mesh.positions[0][2]));
-
-  // Camera 4's cell of frame 1's atlas: its image, alpha = its mask.
-  const Image atlas = readPng(dir.file("player/textures/0001.png"));
-  CameraFrames frames(*dataset_, 4);
-  const Image image = frames.frame(1), mask = frames.mask(1);
-  for (int y = 0; y < 240; y += 7)
-    for (int x = 0; x < 320; x += 5) {
-      for (int c = 0; c < 3; ++c)
-        ASSERT_EQ(atlas.at(320 + x, 240 + y, c), image.at(x, y, c));
-      ASSERT_EQ(atlas.at(320 + x, 240 + y, 3), mask.at(x, y));
-    }
-  test::writeText(dir.file("bad.txt"), "0 1\n2 -3\n");
-  EXPECT_THROW(readGomStarts(dir.file("bad.txt")), Error);
 }
 
 TEST_F(SynthRig, AppRendersOrbitsLeaveOneOutAndReportsBadInput) {

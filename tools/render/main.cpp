@@ -1,11 +1,10 @@
 // 3dvo-render: view-dependent rendering of a dataset-layout folder (a dataset, or a decoded 3DVO)
-// from virtual cameras; leave-one-out quality; export for the web player. docs/rendering.md.
+// from virtual cameras; leave-one-out quality. docs/rendering.md.
 //
 //   3dvo-render -i DATA -o out/                          orbit of 36 views, PNG sequence
 //   3dvo-render -i DATA -o out/ --Mp4=orbit.mp4          ... and an MP4
 //   3dvo-render -i DATA -o out/ --Path=camera --Camera=cam03     every frame from cam03's pose
 //   3dvo-render -i DATA --Mode=leave-one-out             PSNR table on stdout
-//   3dvo-render -i DATA --Mode=export -o player/data/x   data for tools/player
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -17,7 +16,6 @@
 #include "common/core/config.h"
 #include "common/core/error.h"
 #include "common/core/file_io.h"
-#include "common/core/gom_list.h"
 #include "common/core/progress.h"
 #include "common/core/sequence.h"
 #include "common/media/media_version.h"
@@ -26,7 +24,6 @@
 #include "tools/render/camera_path.h"
 #include "tools/render/leave_one_out.h"
 #include "tools/render/mp4_writer.h"
-#include "tools/render/player_export.h"
 #include "tools/render/view_renderer.h"
 
 using namespace tdvo;
@@ -34,7 +31,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-enum class Mode { render, leaveOneOut, exportPlayer };
+enum class Mode { render, leaveOneOut };
 enum class PathKind { orbit, poses, camera };
 
 struct Params {
@@ -47,7 +44,7 @@ struct Params {
   std::string camera, poses, orbitElevation = "auto";
   int orbitSteps = 36, frame = -1, width = 0, height = 0;
   double orbitDistance = 0, orbitTurns = 1, fieldOfView = 0;
-  std::string output, outputPattern = "%04d.png", mp4, csv, gomStarts;
+  std::string output, outputPattern = "%04d.png", mp4, csv;
   int crf = 18;
   bool saveRenders = false, overwrite = false;
 
@@ -60,11 +57,8 @@ struct Params {
     t.add("FirstFrame", firstFrame, 0, 1 << 30, "first frame index to use");
     t.add("FrameCount", frameCount, 0, 1 << 30, "frames to use (0: to the end)");
     t.section("Mode");
-    t.addEnum("Mode", mode,
-              {{"render", Mode::render},
-               {"leave-one-out", Mode::leaveOneOut},
-               {"export", Mode::exportPlayer}},
-              "render a camera path; leave-one-out PSNR per camera; export for the web player");
+    t.addEnum("Mode", mode, {{"render", Mode::render}, {"leave-one-out", Mode::leaveOneOut}},
+              "render a camera path; leave-one-out PSNR per camera");
     t.section("Weights and visibility");
     t.addEnum("ViewDirection", render.direction,
               {{"axis", ViewDirection::axis}, {"ray", ViewDirection::ray}},
@@ -105,8 +99,8 @@ struct Params {
           "virtual horizontal field of view, degrees (0: camera 0's focal length)");
     t.section("Output");
     t.add("Output", output,
-          "folder for the PNG sequence (render), the held-out renders (leave-one-out, with "
-          "SaveRenders) or the player data (export)",
+          "folder for the PNG sequence (render) or the held-out renders (leave-one-out, with "
+          "SaveRenders)",
           "-o");
     t.add("Overwrite", overwrite,
           "replace the contents of a non-empty output folder (without it such a folder is refused)",
@@ -116,10 +110,6 @@ struct Params {
     t.add("Crf", crf, 0, 51, "x264 constant rate factor of the MP4");
     t.add("Csv", csv, "Mode=leave-one-out: also write the table as CSV");
     t.add("SaveRenders", saveRenders, "Mode=leave-one-out: write the held-out renders to Output");
-    t.add("GomStarts", gomStarts,
-          "Mode=export: file of GOM start frame numbers (frames.first + index) (default: "
-          "gom_starts.txt beside "
-          "dataset.json when present, else every frame)");
   }
 };
 
@@ -265,37 +255,13 @@ int main(int argc, char** argv) {
 
     if (p.mode == Mode::render) {
       runRender(p, d, frames);
-    } else if (p.mode == Mode::leaveOneOut) {
+    } else {
       check(d.cameras.size() >= 2, "leave-one-out needs at least two cameras");
       check(!p.saveRenders || !p.output.empty(), "SaveRenders needs an output folder (-o DIR)");
       const std::vector<LeaveOneOutRow> rows =
           leaveOneOut(d, frames, p.render, p.saveRenders ? p.output : "", p.overwrite, {p.input});
       std::fputs(formatLeaveOneOutTable(rows).c_str(), stdout);
       if (!p.csv.empty()) writeFileAtomic(p.csv, formatLeaveOneOutCsv(rows));
-    } else {
-      PlayerExportParams e;
-      e.output = p.output;
-      e.overwrite = p.overwrite;
-      e.inputs = {p.input, p.gomStarts};
-      e.frames = frames;
-      e.options = p.render;
-      std::string gomFile = p.gomStarts;
-      if (gomFile.empty()) {
-        const std::string beside = d.resolve(kGomStartsFileName);
-        std::error_code ec;
-        if (fs::is_regular_file(beside, ec)) gomFile = beside;
-      }
-      if (!gomFile.empty()) {
-        // gom_starts.txt holds frame numbers (3dvo-dec's; frames.first + index).
-        for (int start : readGomStarts(gomFile))
-          for (size_t k = 0; k < frames.size(); ++k)
-            if (d.firstFrame + frames[k] == start) e.gomStarts.push_back(static_cast<int>(k));
-        if (e.gomStarts.empty() || e.gomStarts.front() != 0)
-          e.gomStarts.insert(e.gomStarts.begin(), 0);  // the first exported frame is a start
-      }
-      exportPlayerData(d, e);
-      std::printf("3dvo-render: exported %zu frames of %zu cameras to %s\n", frames.size(),
-                  d.cameras.size(), p.output.c_str());
     }
     return 0;
   });
