@@ -1,7 +1,7 @@
 // 3dvo-render: view-dependent rendering of a dataset-layout folder (a dataset, or a decoded 3DVO)
 // from virtual cameras; leave-one-out quality. docs/rendering.md.
 //
-//   3dvo-render -i DATA -o out/                          orbit of 36 views, PNG sequence
+//   3dvo-render -i DATA -o out/                          36 views within the cameras' arc, PNGs
 //   3dvo-render -i DATA -o out/ --Mp4=orbit.mp4          ... and an MP4
 //   3dvo-render -i DATA -o out/ --Path=camera --Camera=cam03     every frame from cam03's pose
 //   3dvo-render -i DATA --Mode=leave-one-out             PSNR table on stdout
@@ -41,9 +41,9 @@ struct Params {
   RenderOptions render;
   std::string fallbackColour = "128,128,128", background = "0,0,0";
   PathKind path = PathKind::orbit;
-  std::string camera, poses, orbitElevation = "auto";
+  std::string camera, poses, orbitElevation = "auto", orbitTurns = "auto";
   int orbitSteps = 36, frame = -1, width = 0, height = 0;
-  double orbitDistance = 0, orbitTurns = 1, fieldOfView = 0;
+  double orbitDistance = 0, fieldOfView = 0;
   std::string output, outputPattern = "%04d.png", mp4, csv;
   int crf = 18;
   bool saveRenders = false, overwrite = false;
@@ -78,8 +78,8 @@ struct Params {
     t.addEnum(
         "Path", path,
         {{"orbit", PathKind::orbit}, {"poses", PathKind::poses}, {"camera", PathKind::camera}},
-        "an orbit around the object, poses from a file, or one dataset camera's pose for "
-        "every frame");
+        "views around the object (within the cameras' arc unless OrbitTurns says), poses from a "
+        "file, or one dataset camera's pose for every frame");
     t.add("Camera", camera, "Path=camera: the camera's name");
     t.add("Poses", poses,
           "Path=poses: text file of 'eye target [up]' lines, or a dataset.json whose cameras are "
@@ -89,7 +89,10 @@ struct Params {
           "Path=orbit: degrees above the object's centre, or 'auto' (the cameras' mean)");
     t.add("OrbitDistance", orbitDistance, 0, 1e12,
           "Path=orbit: distance from the centre (0: the cameras' mean)");
-    t.add("OrbitTurns", orbitTurns, -1000, 1000, "Path=orbit: full turns over the views");
+    t.add("OrbitTurns", orbitTurns,
+          "Path=orbit: full turns over the views (-1000..1000, negative: clockwise), or 'auto': "
+          "from one end of the arc the cameras span about the up axis to the other, a full turn "
+          "when they surround the object (docs/rendering.md, \"Camera paths\")");
     t.add("Frame", frame, -1, 1 << 30,
           "frame index to show on every view of an orbit or pose list (-1: advance one frame per "
           "view, looping)");
@@ -122,6 +125,36 @@ std::array<uint8_t, 3> parseColour(const std::string& text, const std::string& k
     c[i] = static_cast<uint8_t>(v[i]);
   }
   return c;
+}
+
+// A key that takes 'auto' (none) or a number in lo..hi.
+std::optional<double> parseAuto(const std::string& text, const std::string& key,
+                                const std::string& unit, double lo, double hi) {
+  if (text == "auto") return std::nullopt;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  char range[64];
+  std::snprintf(range, sizeof range, "%g..%g", lo, hi);
+  check(end != text.c_str() && *end == 0 && v >= lo && v <= hi,
+        key + ": '" + text + "' must be 'auto' or " + unit + " in " + range);
+  return v;
+}
+
+// The line saying which path OrbitTurns=auto takes.
+std::string describeArc(const CameraArc& arc) {
+  constexpr double kDegrees = 180 / 3.14159265358979323846;
+  char line[200];
+  if (arc.surrounds)
+    std::snprintf(line, sizeof line,
+                  "3dvo-render: orbit: a full turn (the cameras surround the object; widest "
+                  "gap between them %.1f degrees)",
+                  arc.widestGap * kDegrees);
+  else
+    std::snprintf(line, sizeof line,
+                  "3dvo-render: orbit: within the cameras' arc of %.1f degrees (OrbitTurns gives "
+                  "full turns)",
+                  arc.span * kDegrees);
+  return line;
 }
 
 // The dataset restricted to the cameras named in `names` (all when empty), every `step`-th.
@@ -178,16 +211,11 @@ void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames
       OrbitParams orbit;
       orbit.steps = p.orbitSteps;
       orbit.distance = p.orbitDistance;
-      orbit.turns = p.orbitTurns;
-      if (p.orbitElevation != "auto") {
-        char* end = nullptr;
-        const double e = std::strtod(p.orbitElevation.c_str(), &end);
-        check(end && *end == 0 && e >= -90 && e <= 90,
-              "OrbitElevation: '" + p.orbitElevation + "' must be 'auto' or degrees in -90..90");
-        orbit.elevation = e;
-      }
-      views = orbitPath(d, boundingBoxCentre(readDatasetMesh(d, frames.front())), up, intrinsics,
-                        orbit);
+      orbit.turns = parseAuto(p.orbitTurns, "OrbitTurns", "turns", -1000, 1000);
+      orbit.elevation = parseAuto(p.orbitElevation, "OrbitElevation", "degrees", -90, 90);
+      const Vec3d centre = boundingBoxCentre(readDatasetMesh(d, frames.front()));
+      if (!orbit.turns) std::puts(describeArc(cameraArc(d, centre, up)).c_str());
+      views = orbitPath(d, centre, up, intrinsics, orbit);
     } else {
       check(!p.poses.empty(), "Path=poses needs --Poses=FILE");
       views = readPoses(p.poses, intrinsics, up);
