@@ -423,8 +423,7 @@ int main(int argc, char** argv) {
                                                   outputNumber(static_cast<int>(outFirst)), frames),
                                    outputDir));
     // Where each GOM starts (the output's frame numbers; the starts within the output):
-    // 3dvo-metrics matches vertices there (GroupStarts), the player of 3dvo-render
-    // --Mode=export seeks to these frames.
+    // 3dvo-metrics matches vertices there (GroupStarts).
     if (!outputDir.empty()) {
       std::vector<uint32_t> starts;
       for (uint32_t start : decoder.gomStarts())

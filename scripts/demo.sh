@@ -26,7 +26,7 @@ mkdir -p "$out"
 "$bin/3dvo-dec" -i "$out/sample.3dvo" -o "$out/decoded" --Overwrite --verify "$out/encoder.log" \
   | tee "$out/decoder.log"
 # Frame 12 from 16 views around the object, every other one between two cameras (the ring's 8
-# cameras are 45 degrees apart).
+# cameras are 45 degrees apart; they surround the object, so the default path is a full turn).
 "$bin/3dvo-render" -i "$out/decoded" -o "$out/view" --Overwrite --FirstFrame=12 --FrameCount=1 \
   --OrbitSteps=16
 echo

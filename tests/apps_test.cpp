@@ -620,7 +620,6 @@ TEST_F(AppsTest, EveryFolderAppRefusesANonEmptyFolder) {
        {"-o", "rig", "--Cameras=2", "--FrameCount=2", "--Width=32", "--Height=24",
         "--BlobSubdivisions=1"}},
       {"3dvo-render", {"-i", "rig", "-o", "views", "--OrbitSteps=2", "--Width=24", "--Height=16"}},
-      {"3dvo-render", {"-i", "rig", "-o", "player", "--Mode=export"}},
       {"3dvo-render", {"-i", "rig", "-o", "held-out", "--Mode=leave-one-out", "--SaveRenders"}},
       {"3dvo-recon", {"--InputMeshPattern=rig/meshes/%04d.obj", "--FrameCount=2", "-o", "recon"}},
   };

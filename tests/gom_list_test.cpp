@@ -115,6 +115,23 @@ TEST(GomList, ReadFromAFile) {
   EXPECT_THROW(readGomList(dir.file("missing.txt")), Error);
 }
 
+TEST(GomStarts, ReadFromAFileSortedWithoutRepeats) {
+  // gom_starts.txt as 3dvo-dec writes it and 3dvo-metrics --GroupStarts reads it.
+  test::TempDir dir("gom-starts");
+  test::writeText(dir.file("starts.txt"), formatGomStarts({0, 4}));
+  EXPECT_EQ(readGomStarts(dir.file("starts.txt")), (std::vector<int>{0, 4}));
+  test::writeText(dir.file("goms.txt"), "5, 1  # two GOMs\n1\n");
+  EXPECT_EQ(readGomStarts(dir.file("goms.txt")), (std::vector<int>{1, 5}));
+  test::writeText(dir.file("bad.txt"), "0 1\n2 -3\n");
+  try {
+    readGomStarts(dir.file("bad.txt"));
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              dir.file("bad.txt") + ":2: '-3' is not a frame index (a non-negative integer)");
+  }
+}
+
 TEST(GomListFile, ReplacesGomSizeAndIsCheckedByValidate) {
   test::TempDir dir("gom-list-params");
   EncoderParams params;

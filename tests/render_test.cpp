@@ -1,15 +1,12 @@
 // The view-dependent renderer (tools/render): own-pose reproduction on the synthetic rig (the
-// acceptance bound of 40 dB), leave-one-out, visibility, camera paths, MP4 output, the player
-// export and the 3dvo-render app.
+// acceptance bound of 40 dB), leave-one-out, visibility, camera paths, MP4 output and the
+// 3dvo-render app.
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <nlohmann/json.hpp>
 
 #include "common/core/error.h"
-#include "common/core/gom_list.h"
 #include "common/core/obj_io.h"
 #include "common/media/png_io.h"
 #include "common/media/video_reader.h"
@@ -19,7 +16,6 @@
 #include "tools/render/camera_path.h"
 #include "tools/render/leave_one_out.h"
 #include "tools/render/mp4_writer.h"
-#include "tools/render/player_export.h"
 #include "tools/render/view_renderer.h"
 
 using namespace tdvo;
@@ -213,6 +209,103 @@ TEST_F(SynthRig, OrbitLooksAtTheCentreFromTheCamerasDistance) {
   EXPECT_LT(norm(path[3].centre() - dataset_->cameras[2].camera.centre()), 1e-9 * distance);
 }
 
+namespace {
+
+constexpr double kDegree = 3.14159265358979323846 / 180;
+const Vec3d kCentre{0.1, 0.2, -0.3}, kUp{0, 1, 0};
+// Azimuth 0 along x, counter-clockwise seen from above (+y): 90 degrees along up × x = −z.
+const Vec3d kAlong0{1, 0, 0}, kAlong90{0, 0, -1};
+
+// Cameras 3 units from kCentre at 10 degrees of elevation and the given azimuths, in that order.
+Dataset camerasAt(const std::vector<double>& azimuthDegrees) {
+  Dataset d;
+  for (double degrees : azimuthDegrees) {
+    const double a = degrees * kDegree, e = 10 * kDegree;
+    DatasetCamera c;
+    c.camera.width = 64, c.camera.height = 48, c.camera.fx = c.camera.fy = 60;
+    lookAt(c.camera,
+           kCentre + 3 * (std::cos(e) * (std::cos(a) * kAlong0 + std::sin(a) * kAlong90) +
+                          std::sin(e) * kUp),
+           kCentre, kUp);
+    d.cameras.push_back(c);
+  }
+  return d;
+}
+
+// A camera's azimuth about kUp through kCentre in degrees, in [from, from + 360).
+double azimuthOf(const Camera& c, double from) {
+  const Vec3d r = c.centre() - kCentre;
+  const double degrees = std::atan2(dot(r, kAlong90), dot(r, kAlong0)) / kDegree;
+  return from + std::fmod(std::fmod(degrees - from, 360) + 360, 360);
+}
+
+std::vector<Camera> defaultPath(const Dataset& d, int steps) {
+  OrbitParams p;
+  p.steps = steps;
+  return orbitPath(d, kCentre, kUp, d.cameras[0].camera, p);
+}
+
+}  // namespace
+
+TEST(CameraPath, CamerasOnARingGetAFullTurn) {
+  const Dataset ring = camerasAt({0, 45, 90, 135, 180, 225, 270, 315});
+  const CameraArc arc = cameraArc(ring, kCentre, kUp);
+  EXPECT_TRUE(arc.surrounds);
+  EXPECT_NEAR(arc.widestGap, 45 * kDegree, 1e-9);
+  // As OrbitTurns=1: view k of 8 at camera k's pose.
+  const std::vector<Camera> path = defaultPath(ring, 8);
+  ASSERT_EQ(path.size(), 8u);
+  for (size_t k = 0; k < 8; ++k)
+    EXPECT_LT(norm(path[k].centre() - ring.cameras[k].camera.centre()), 1e-9) << k;
+  // 4 cameras 90 degrees apart surround the centre; 3 cameras 120 degrees apart do not (the
+  // widest gap must stay under 100 degrees), nor does a ring of 8 with a camera missing (its 90
+  // degree gap is not under 1.5 times the mean spacing 360 / 7): they get an arc of 240 and 270
+  // degrees.
+  EXPECT_TRUE(cameraArc(camerasAt({10, 100, 190, 280}), kCentre, kUp).surrounds);
+  const CameraArc three = cameraArc(camerasAt({10, 130, 250}), kCentre, kUp);
+  EXPECT_FALSE(three.surrounds);
+  EXPECT_NEAR(three.span, 240 * kDegree, 1e-9);
+  const CameraArc seven = cameraArc(camerasAt({0, 45, 90, 135, 180, 270, 315}), kCentre, kUp);
+  EXPECT_FALSE(seven.surrounds);
+  EXPECT_NEAR(seven.span, 270 * kDegree, 1e-9);
+}
+
+TEST(CameraPath, CamerasOnAnArcGetViewsWithinIt) {
+  // 4 cameras over 90 degrees, camera 0 not at an end.
+  const Dataset quarter = camerasAt({160, 100, 190, 130});
+  const CameraArc arc = cameraArc(quarter, kCentre, kUp);
+  EXPECT_FALSE(arc.surrounds);
+  EXPECT_NEAR(arc.span, 90 * kDegree, 1e-9);
+  EXPECT_NEAR(arc.widestGap, 270 * kDegree, 1e-9);
+  EXPECT_NEAR(arc.start, (100 - 160 + 360) * kDegree, 1e-9);  // from camera 0's azimuth
+  const std::vector<Camera> path = defaultPath(quarter, 10);
+  ASSERT_EQ(path.size(), 10u);
+  for (size_t k = 0; k < path.size(); ++k) {
+    const double azimuth = azimuthOf(path[k], 100);
+    EXPECT_GE(azimuth, 100 - 1e-9) << k;
+    EXPECT_LE(azimuth, 190 + 1e-9) << k;
+    EXPECT_NEAR(azimuth, 100 + 10.0 * k, 1e-9) << k;  // evenly, one end to the other
+    EXPECT_NEAR(norm(path[k].centre() - kCentre), 3, 1e-9) << k;
+  }
+  // 120 degrees across azimuth 0: every view within them; a single view in the middle.
+  const Dataset third = camerasAt({330, 0, 60, 300});
+  for (const Camera& c : defaultPath(third, 36)) {
+    EXPECT_GE(azimuthOf(c, 300), 300 - 1e-9);
+    EXPECT_LE(azimuthOf(c, 300), 420 + 1e-9);
+  }
+  EXPECT_NEAR(azimuthOf(defaultPath(third, 1)[0], 300), 360, 1e-9);
+  // OrbitTurns still gives full turns: view 2 of 4 opposite camera 0.
+  OrbitParams turn;
+  turn.steps = 4;
+  turn.turns = 1;
+  const std::vector<Camera> full =
+      orbitPath(quarter, kCentre, kUp, quarter.cameras[0].camera, turn);
+  EXPECT_NEAR(azimuthOf(full[2], 0), 160 + 180, 1e-9);
+  // One camera: every view at its azimuth.
+  for (const Camera& c : defaultPath(camerasAt({40}), 3))
+    EXPECT_NEAR(azimuthOf(c, 0), 40, 1e-9);
+}
+
 TEST(CameraPath, PoseFilesAndTheirErrors) {
   test::TempDir dir("poses");
   Camera intrinsics;
@@ -317,51 +410,6 @@ TEST(Mp4Writer, PlantedPartialLinkIsNotFollowedAndALinkedOutputKeepsItsLink) {
             (std::vector<std::string>{"out.mp4", "out.mp4.partial", "target.mp4", "victim"}));
 }
 
-TEST_F(SynthRig, PlayerExportWritesSceneMeshesAndAtlases) {
-  test::TempDir dir("export");
-  test::writeText(dir.file("goms.txt"), "0, 1  # two GOMs\n");
-  PlayerExportParams p;
-  p.output = dir.file("player");
-  p.frames = {0, 1};
-  p.gomStarts = readGomStarts(dir.file("goms.txt"));
-  exportPlayerData(*dataset_, p);
-  const nlohmann::json scene = nlohmann::json::parse(test::readText(dir.file("player/scene.json")));
-  EXPECT_EQ(scene["format"], "3dvo-player");
-  EXPECT_EQ(scene["frames"]["count"], 2);
-  EXPECT_EQ(scene["gomStarts"], nlohmann::json::array({0, 1}));
-  EXPECT_EQ(scene["atlas"]["columns"], 3);  // ceil(sqrt(8))
-  EXPECT_EQ(scene["atlas"]["width"], 960);
-  EXPECT_EQ(scene["atlas"]["height"], 720);
-  ASSERT_EQ(scene["cameras"].size(), 8u);
-  EXPECT_EQ(scene["cameras"][4]["atlasX"], 320);
-  EXPECT_EQ(scene["cameras"][4]["atlasY"], 240);
-  EXPECT_EQ(scene["cameras"][4]["t"][2], dataset_->cameras[4].camera.t[2]);
-
-  const Mesh mesh = readDatasetMesh(*dataset_, 1);
-  const std::vector<uint8_t> bin = test::readBytes(dir.file("player/meshes/0001.bin"));
-  ASSERT_EQ(bin.size(), 8 + 12 * (mesh.positions.size() + mesh.triangles.size()));
-  uint32_t header[2];
-  std::memcpy(header, bin.data(), 8);
-  EXPECT_EQ(header[0], mesh.positions.size());
-  EXPECT_EQ(header[1], mesh.triangles.size());
-  float first[3];
-  std::memcpy(first, bin.data() + 8, 12);
-  EXPECT_EQ(first[2], static_cast<float>(mesh.positions[0][2]));
-
-  // Camera 4's cell of frame 1's atlas: its image, alpha = its mask.
-  const Image atlas = readPng(dir.file("player/textures/0001.png"));
-  CameraFrames frames(*dataset_, 4);
-  const Image image = frames.frame(1), mask = frames.mask(1);
-  for (int y = 0; y < 240; y += 7)
-    for (int x = 0; x < 320; x += 5) {
-      for (int c = 0; c < 3; ++c)
-        ASSERT_EQ(atlas.at(320 + x, 240 + y, c), image.at(x, y, c));
-      ASSERT_EQ(atlas.at(320 + x, 240 + y, 3), mask.at(x, y));
-    }
-  test::writeText(dir.file("bad.txt"), "0 1\n2 -3\n");
-  EXPECT_THROW(readGomStarts(dir.file("bad.txt")), Error);
-}
-
 TEST_F(SynthRig, AppRendersOrbitsLeaveOneOutAndReportsBadInput) {
   test::TempDir dir("app");
   const std::string app = std::string(TDVO_BIN_DIR) + "/3dvo-render";
@@ -377,6 +425,17 @@ TEST_F(SynthRig, AppRendersOrbitsLeaveOneOutAndReportsBadInput) {
   EXPECT_EQ(orbit.width, 160);
   EXPECT_EQ(orbit.channels, 4);
   EXPECT_EQ(countVideoFrames(dir.file("orbit.mp4")), 3);
+  EXPECT_NE(r.out.find("3dvo-render: orbit: a full turn (the cameras surround the object"),
+            std::string::npos)
+      << r.out;
+  // Three neighbours of the ring span 90 degrees: the default path stays within them.
+  r = test::run(dir, app,
+                {"-i", input, "-o", "arc", "--Cameras=cam00,cam01,cam02", "--OrbitSteps=2",
+                 "--Width=32", "--Height=24"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("3dvo-render: orbit: within the cameras' arc of 90.0 degrees"),
+            std::string::npos)
+      << r.out;
 
   r = test::run(dir, app,
                 {"-i", input, "--Mode=leave-one-out", "--FrameCount=1",
@@ -390,6 +449,11 @@ TEST_F(SynthRig, AppRendersOrbitsLeaveOneOutAndReportsBadInput) {
   EXPECT_EQ(r.exitCode, 1);
   EXPECT_NE(r.err.find("3dvo-render: error:"), std::string::npos);
   EXPECT_NE(r.err.find("nope"), std::string::npos);
+  r = test::run(dir, app, {"-i", input, "-o", "x", "--OrbitTurns=half"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("OrbitTurns: 'half' must be 'auto' or turns in -1000..1000"),
+            std::string::npos)
+      << r.err;
   r = test::run(dir, app, {"-i", input, "--Sharpness=-1"});
   EXPECT_EQ(r.exitCode, 1);
   EXPECT_FALSE(fs::exists(dir.path() / "x"));

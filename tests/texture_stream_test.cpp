@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "common/core/gom_list.h"
 #include "common/core/md5.h"
 #include "common/media/dataset.h"
 #include "common/media/png_io.h"
@@ -209,22 +210,21 @@ TEST_F(TextureApps, DecodedDatasetIsTheInputDatasetWithTheDecodedFiles) {
   EXPECT_FALSE(fs::exists(dir.file("out/0000.obj")));
 }
 
-// Tools that read decoded folders follow the frame numbers: the player export of a stream
-// coded from frame 1 (GOMs at frames 1 and 3) seeks to its exported frames 0 and 2.
-TEST_F(TextureApps, PlayerExportReadsTheDecodedGomStartsAsFrameNumbers) {
+// Tools that read decoded folders follow the frame numbers: a stream coded from frame 1 (GOMs
+// at frames 1 and 3) decodes to gom_starts.txt listing frames 1 and 3, and 3dvo-render renders
+// each of the decoded frames 1 .. 4 from a camera's pose.
+TEST_F(TextureApps, DecodedGomStartsAndFramesKeepTheFrameNumbers) {
   const auto e = encode({"--FirstFrame=1", "--FrameCount=4", "--GOMSize=2"}, "s.3dvo");
   ASSERT_EQ(e.exitCode, 0) << e.err;
   ASSERT_EQ(test::run(dir, kBin + "/3dvo-dec", {"-i", "s.3dvo", "-o", "out"}).exitCode, 0);
-  const auto r =
-      test::run(dir, kBin + "/3dvo-render", {"-i", "out", "--Mode=export", "-o", "player"});
+  EXPECT_EQ(readGomStarts(dir.file("out/gom_starts.txt")), (std::vector<int>{1, 3}));
+  const Dataset decoded = readDataset(dir.file("out"));
+  const auto r = test::run(
+      dir, kBin + "/3dvo-render",
+      {"-i", "out", "--Path=camera", "--Camera=" + decoded.cameras[0].camera.name, "-o", "views"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  const std::string scene = test::readText(dir.file("player/scene.json"));
-  const size_t at = scene.find("\"gomStarts\"");
-  ASSERT_NE(at, std::string::npos) << scene;
-  std::string starts;
-  for (size_t i = scene.find('[', at); i < scene.size() && scene[i] != ']'; ++i)
-    if (scene[i] != ' ' && scene[i] != '\n') starts += scene[i];
-  EXPECT_EQ(starts, "[0,2");
+  EXPECT_EQ(test::listFolder(dir.path() / "views"),
+            (std::vector<std::string>{"0000.png", "0001.png", "0002.png", "0003.png"}));
 }
 
 // Issue 17.8: a decoder frame range with textures starts at the GOM's IDR pictures (GOMs at

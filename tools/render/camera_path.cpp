@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "common/core/error.h"
 #include "common/core/file_io.h"
@@ -13,7 +14,23 @@ namespace tdvo {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
+
+// The basis of azimuths about `up` through `centre`: a is camera 0's direction from the centre
+// projected onto the plane normal to up (any direction in that plane when camera 0 is on the
+// axis), b = up × a; azimuth θ is the direction cos θ · a + sin θ · b.
+std::pair<Vec3d, Vec3d> azimuthBasis(const Dataset& d, const Vec3d& centre, const Vec3d& up) {
+  check(!d.cameras.empty(), "the dataset has no cameras");
+  const Vec3d r0 = d.cameras.front().camera.centre() - centre;
+  Vec3d a = r0 - dot(r0, up) * up;
+  if (norm(a) < 1e-9 * std::max(1.0, norm(r0))) {
+    const Vec3d helper = std::fabs(up[2]) < 0.9 ? Vec3d{0, 0, 1} : Vec3d{1, 0, 0};
+    a = cross(helper, up);
+  }
+  a = normalized(a);
+  return {a, cross(up, a)};
 }
+
+}  // namespace
 
 Camera virtualIntrinsics(const Dataset& d, int width, int height, double fieldOfView) {
   check(!d.cameras.empty(), "the dataset has no cameras");
@@ -54,10 +71,45 @@ Vec3d boundingBoxCentre(const Mesh& mesh) {
   return 0.5 * (lo + hi);
 }
 
+CameraArc cameraArc(const Dataset& d, const Vec3d& centre, const Vec3d& up) {
+  const auto [a, b] = azimuthBasis(d, centre, up);
+  std::vector<double> azimuths;
+  for (const DatasetCamera& c : d.cameras) {
+    const Vec3d r = c.camera.centre() - centre;
+    const double azimuth = std::atan2(dot(r, b), dot(r, a));
+    azimuths.push_back(azimuth < 0 ? azimuth + 2 * kPi : azimuth);
+  }
+  std::sort(azimuths.begin(), azimuths.end());
+  CameraArc arc;
+  arc.widestGap = -1;
+  for (size_t i = 0; i < azimuths.size(); ++i) {
+    const bool last = i + 1 == azimuths.size();
+    const double gap = (last ? azimuths[0] + 2 * kPi : azimuths[i + 1]) - azimuths[i];
+    if (gap > arc.widestGap) {
+      arc.widestGap = gap;
+      arc.start = azimuths[last ? 0 : i + 1];
+    }
+  }
+  arc.span = 2 * kPi - arc.widestGap;
+  const double meanSpacing = 2 * kPi / static_cast<double>(azimuths.size());
+  arc.surrounds = arc.widestGap < std::min(1.5 * meanSpacing, 100 * kPi / 180);
+  return arc;
+}
+
 std::vector<Camera> orbitPath(const Dataset& d, const Vec3d& centre, const Vec3d& up,
                               const Camera& intrinsics, const OrbitParams& p) {
   check(p.steps >= 1, "orbit: at least one step is needed");
   check(!d.cameras.empty(), "the dataset has no cameras");
+  // Step k's azimuth: first + extent · k / divisions (a full turn: as many divisions as steps).
+  double first = 0, extent = 2 * kPi * p.turns.value_or(1), divisions = p.steps;
+  if (!p.turns) {
+    const CameraArc arc = cameraArc(d, centre, up);
+    if (!arc.surrounds) {  // from one end of the arc to the other
+      first = p.steps == 1 ? arc.start + 0.5 * arc.span : arc.start;
+      extent = arc.span;
+      divisions = std::max(1, p.steps - 1);
+    }
+  }
   double distance = 0, elevation = 0;
   for (const DatasetCamera& c : d.cameras) {
     const Vec3d r = c.camera.centre() - centre;
@@ -68,20 +120,12 @@ std::vector<Camera> orbitPath(const Dataset& d, const Vec3d& centre, const Vec3d
   elevation /= static_cast<double>(d.cameras.size());
   if (p.distance > 0) distance = p.distance;
   if (p.elevation) elevation = *p.elevation * kPi / 180;
-  // Azimuth 0: camera 0's direction from the centre, projected onto the plane normal to up.
-  const Vec3d r0 = d.cameras.front().camera.centre() - centre;
-  Vec3d a = r0 - dot(r0, up) * up;
-  if (norm(a) < 1e-9 * std::max(1.0, norm(r0))) {
-    const Vec3d helper = std::fabs(up[2]) < 0.9 ? Vec3d{0, 0, 1} : Vec3d{1, 0, 0};
-    a = cross(helper, up);
-  }
-  a = normalized(a);
-  const Vec3d b = cross(up, a);
+  const auto [a, b] = azimuthBasis(d, centre, up);
   // Keep the cameras off the up axis, where lookAt has no defined image-up.
   elevation = std::clamp(elevation, -89.9 * kPi / 180, 89.9 * kPi / 180);
   std::vector<Camera> path;
   for (int k = 0; k < p.steps; ++k) {
-    const double azimuth = 2 * kPi * p.turns * k / p.steps;
+    const double azimuth = first + extent * k / divisions;
     const Vec3d direction = std::cos(elevation) * (std::cos(azimuth) * a + std::sin(azimuth) * b) +
                             std::sin(elevation) * up;
     Camera c = intrinsics;

@@ -1,5 +1,5 @@
-// Virtual camera paths for free-viewpoint output: an orbit around the object, or a list of poses
-// from a file (docs/rendering.md, "Camera paths").
+// Virtual camera paths for free-viewpoint output: an orbit around the object (by default within
+// the arc the cameras span), or a list of poses from a file (docs/rendering.md, "Camera paths").
 #pragma once
 
 #include <optional>
@@ -25,16 +25,32 @@ Vec3d datasetUp(const Dataset& dataset);
 // The centre of a mesh's bounding box.
 Vec3d boundingBoxCentre(const Mesh& mesh);
 
+// The arc of azimuths about the axis `up` through `centre` that the cameras span: the smallest
+// arc holding every camera's azimuth, i.e. the complement of the widest gap between neighbouring
+// cameras (docs/rendering.md, "Camera paths"; tools/player/src/view_path.js takes the same arc).
+// Azimuths are in radians, counter-clockwise seen from above, from camera 0's direction.
+struct CameraArc {
+  double start = 0;      // the azimuth of the camera just after the widest gap, in [0, 2π)
+  double span = 0;       // counter-clockwise from `start` to the last camera, in [0, 2π)
+  double widestGap = 0;  // 2π − span
+  // The cameras surround the centre: widestGap < 1.5 × the mean spacing 2π / cameras and
+  // < 100° (every azimuth within 50° of a camera; never with fewer than 4 cameras).
+  bool surrounds = false;
+};
+CameraArc cameraArc(const Dataset& dataset, const Vec3d& centre, const Vec3d& up);
+
 struct OrbitParams {
-  int steps = 36;                   // cameras on the orbit, evenly spaced in azimuth
+  int steps = 36;                   // cameras on the path
   std::optional<double> elevation;  // degrees above the centre; none: the cameras' mean
   double distance = 0;              // from the centre; 0: the cameras' mean distance
-  double turns = 1;                 // full turns over the steps
+  std::optional<double> turns;      // full turns over the steps; none: the cameras' arc
 };
 
-// A circle of cameras around `centre`, all looking at it, with image-up as close to `up` as
-// possible. Step 0 lies at camera 0's azimuth; step k at k · turns · 360° / steps further,
-// counter-clockwise seen from above.
+// Cameras around `centre` at one distance and elevation, all looking at it, with image-up as
+// close to `up` as possible. With `turns`, step 0 lies at camera 0's azimuth and step k at
+// k · turns · 360° / steps further, counter-clockwise seen from above. Without, the steps stay
+// within cameraArc(): a full turn as with turns = 1 when the cameras surround the centre; else
+// evenly spaced from the arc's start (step 0) to its end (the last step; one step: its middle).
 std::vector<Camera> orbitPath(const Dataset& dataset, const Vec3d& centre, const Vec3d& up,
                               const Camera& intrinsics, const OrbitParams& params);
 

@@ -1,11 +1,10 @@
 // 3dvo-render: view-dependent rendering of a dataset-layout folder (a dataset, or a decoded 3DVO)
-// from virtual cameras; leave-one-out quality; export for the web player. docs/rendering.md.
+// from virtual cameras; leave-one-out quality. docs/rendering.md.
 //
-//   3dvo-render -i DATA -o out/                          orbit of 36 views, PNG sequence
+//   3dvo-render -i DATA -o out/                          36 views within the cameras' arc, PNGs
 //   3dvo-render -i DATA -o out/ --Mp4=orbit.mp4          ... and an MP4
 //   3dvo-render -i DATA -o out/ --Path=camera --Camera=cam03     every frame from cam03's pose
 //   3dvo-render -i DATA --Mode=leave-one-out             PSNR table on stdout
-//   3dvo-render -i DATA --Mode=export -o player/data/x   data for tools/player
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -17,7 +16,6 @@
 #include "common/core/config.h"
 #include "common/core/error.h"
 #include "common/core/file_io.h"
-#include "common/core/gom_list.h"
 #include "common/core/progress.h"
 #include "common/core/sequence.h"
 #include "common/media/media_version.h"
@@ -26,7 +24,6 @@
 #include "tools/render/camera_path.h"
 #include "tools/render/leave_one_out.h"
 #include "tools/render/mp4_writer.h"
-#include "tools/render/player_export.h"
 #include "tools/render/view_renderer.h"
 
 using namespace tdvo;
@@ -34,7 +31,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-enum class Mode { render, leaveOneOut, exportPlayer };
+enum class Mode { render, leaveOneOut };
 enum class PathKind { orbit, poses, camera };
 
 struct Params {
@@ -44,10 +41,10 @@ struct Params {
   RenderOptions render;
   std::string fallbackColour = "128,128,128", background = "0,0,0";
   PathKind path = PathKind::orbit;
-  std::string camera, poses, orbitElevation = "auto";
+  std::string camera, poses, orbitElevation = "auto", orbitTurns = "auto";
   int orbitSteps = 36, frame = -1, width = 0, height = 0;
-  double orbitDistance = 0, orbitTurns = 1, fieldOfView = 0;
-  std::string output, outputPattern = "%04d.png", mp4, csv, gomStarts;
+  double orbitDistance = 0, fieldOfView = 0;
+  std::string output, outputPattern = "%04d.png", mp4, csv;
   int crf = 18;
   bool saveRenders = false, overwrite = false;
 
@@ -60,11 +57,8 @@ struct Params {
     t.add("FirstFrame", firstFrame, 0, 1 << 30, "first frame index to use");
     t.add("FrameCount", frameCount, 0, 1 << 30, "frames to use (0: to the end)");
     t.section("Mode");
-    t.addEnum("Mode", mode,
-              {{"render", Mode::render},
-               {"leave-one-out", Mode::leaveOneOut},
-               {"export", Mode::exportPlayer}},
-              "render a camera path; leave-one-out PSNR per camera; export for the web player");
+    t.addEnum("Mode", mode, {{"render", Mode::render}, {"leave-one-out", Mode::leaveOneOut}},
+              "render a camera path; leave-one-out PSNR per camera");
     t.section("Weights and visibility");
     t.addEnum("ViewDirection", render.direction,
               {{"axis", ViewDirection::axis}, {"ray", ViewDirection::ray}},
@@ -84,8 +78,8 @@ struct Params {
     t.addEnum(
         "Path", path,
         {{"orbit", PathKind::orbit}, {"poses", PathKind::poses}, {"camera", PathKind::camera}},
-        "an orbit around the object, poses from a file, or one dataset camera's pose for "
-        "every frame");
+        "views around the object (within the cameras' arc unless OrbitTurns says), poses from a "
+        "file, or one dataset camera's pose for every frame");
     t.add("Camera", camera, "Path=camera: the camera's name");
     t.add("Poses", poses,
           "Path=poses: text file of 'eye target [up]' lines, or a dataset.json whose cameras are "
@@ -95,7 +89,10 @@ struct Params {
           "Path=orbit: degrees above the object's centre, or 'auto' (the cameras' mean)");
     t.add("OrbitDistance", orbitDistance, 0, 1e12,
           "Path=orbit: distance from the centre (0: the cameras' mean)");
-    t.add("OrbitTurns", orbitTurns, -1000, 1000, "Path=orbit: full turns over the views");
+    t.add("OrbitTurns", orbitTurns,
+          "Path=orbit: full turns over the views (-1000..1000, negative: clockwise), or 'auto': "
+          "from one end of the arc the cameras span about the up axis to the other, a full turn "
+          "when they surround the object (docs/rendering.md, \"Camera paths\")");
     t.add("Frame", frame, -1, 1 << 30,
           "frame index to show on every view of an orbit or pose list (-1: advance one frame per "
           "view, looping)");
@@ -105,8 +102,8 @@ struct Params {
           "virtual horizontal field of view, degrees (0: camera 0's focal length)");
     t.section("Output");
     t.add("Output", output,
-          "folder for the PNG sequence (render), the held-out renders (leave-one-out, with "
-          "SaveRenders) or the player data (export)",
+          "folder for the PNG sequence (render) or the held-out renders (leave-one-out, with "
+          "SaveRenders)",
           "-o");
     t.add("Overwrite", overwrite,
           "replace the contents of a non-empty output folder (without it such a folder is refused)",
@@ -116,10 +113,6 @@ struct Params {
     t.add("Crf", crf, 0, 51, "x264 constant rate factor of the MP4");
     t.add("Csv", csv, "Mode=leave-one-out: also write the table as CSV");
     t.add("SaveRenders", saveRenders, "Mode=leave-one-out: write the held-out renders to Output");
-    t.add("GomStarts", gomStarts,
-          "Mode=export: file of GOM start frame numbers (frames.first + index) (default: "
-          "gom_starts.txt beside "
-          "dataset.json when present, else every frame)");
   }
 };
 
@@ -132,6 +125,36 @@ std::array<uint8_t, 3> parseColour(const std::string& text, const std::string& k
     c[i] = static_cast<uint8_t>(v[i]);
   }
   return c;
+}
+
+// A key that takes 'auto' (none) or a number in lo..hi.
+std::optional<double> parseAuto(const std::string& text, const std::string& key,
+                                const std::string& unit, double lo, double hi) {
+  if (text == "auto") return std::nullopt;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  char range[64];
+  std::snprintf(range, sizeof range, "%g..%g", lo, hi);
+  check(end != text.c_str() && *end == 0 && v >= lo && v <= hi,
+        key + ": '" + text + "' must be 'auto' or " + unit + " in " + range);
+  return v;
+}
+
+// The line saying which path OrbitTurns=auto takes.
+std::string describeArc(const CameraArc& arc) {
+  constexpr double kDegrees = 180 / 3.14159265358979323846;
+  char line[200];
+  if (arc.surrounds)
+    std::snprintf(line, sizeof line,
+                  "3dvo-render: orbit: a full turn (the cameras surround the object; widest "
+                  "gap between them %.1f degrees)",
+                  arc.widestGap * kDegrees);
+  else
+    std::snprintf(line, sizeof line,
+                  "3dvo-render: orbit: within the cameras' arc of %.1f degrees (OrbitTurns gives "
+                  "full turns)",
+                  arc.span * kDegrees);
+  return line;
 }
 
 // The dataset restricted to the cameras named in `names` (all when empty), every `step`-th.
@@ -188,16 +211,11 @@ void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames
       OrbitParams orbit;
       orbit.steps = p.orbitSteps;
       orbit.distance = p.orbitDistance;
-      orbit.turns = p.orbitTurns;
-      if (p.orbitElevation != "auto") {
-        char* end = nullptr;
-        const double e = std::strtod(p.orbitElevation.c_str(), &end);
-        check(end && *end == 0 && e >= -90 && e <= 90,
-              "OrbitElevation: '" + p.orbitElevation + "' must be 'auto' or degrees in -90..90");
-        orbit.elevation = e;
-      }
-      views = orbitPath(d, boundingBoxCentre(readDatasetMesh(d, frames.front())), up, intrinsics,
-                        orbit);
+      orbit.turns = parseAuto(p.orbitTurns, "OrbitTurns", "turns", -1000, 1000);
+      orbit.elevation = parseAuto(p.orbitElevation, "OrbitElevation", "degrees", -90, 90);
+      const Vec3d centre = boundingBoxCentre(readDatasetMesh(d, frames.front()));
+      if (!orbit.turns) std::puts(describeArc(cameraArc(d, centre, up)).c_str());
+      views = orbitPath(d, centre, up, intrinsics, orbit);
     } else {
       check(!p.poses.empty(), "Path=poses needs --Poses=FILE");
       views = readPoses(p.poses, intrinsics, up);
@@ -265,37 +283,13 @@ int main(int argc, char** argv) {
 
     if (p.mode == Mode::render) {
       runRender(p, d, frames);
-    } else if (p.mode == Mode::leaveOneOut) {
+    } else {
       check(d.cameras.size() >= 2, "leave-one-out needs at least two cameras");
       check(!p.saveRenders || !p.output.empty(), "SaveRenders needs an output folder (-o DIR)");
       const std::vector<LeaveOneOutRow> rows =
           leaveOneOut(d, frames, p.render, p.saveRenders ? p.output : "", p.overwrite, {p.input});
       std::fputs(formatLeaveOneOutTable(rows).c_str(), stdout);
       if (!p.csv.empty()) writeFileAtomic(p.csv, formatLeaveOneOutCsv(rows));
-    } else {
-      PlayerExportParams e;
-      e.output = p.output;
-      e.overwrite = p.overwrite;
-      e.inputs = {p.input, p.gomStarts};
-      e.frames = frames;
-      e.options = p.render;
-      std::string gomFile = p.gomStarts;
-      if (gomFile.empty()) {
-        const std::string beside = d.resolve(kGomStartsFileName);
-        std::error_code ec;
-        if (fs::is_regular_file(beside, ec)) gomFile = beside;
-      }
-      if (!gomFile.empty()) {
-        // gom_starts.txt holds frame numbers (3dvo-dec's; frames.first + index).
-        for (int start : readGomStarts(gomFile))
-          for (size_t k = 0; k < frames.size(); ++k)
-            if (d.firstFrame + frames[k] == start) e.gomStarts.push_back(static_cast<int>(k));
-        if (e.gomStarts.empty() || e.gomStarts.front() != 0)
-          e.gomStarts.insert(e.gomStarts.begin(), 0);  // the first exported frame is a start
-      }
-      exportPlayerData(d, e);
-      std::printf("3dvo-render: exported %zu frames of %zu cameras to %s\n", frames.size(),
-                  d.cameras.size(), p.output.c_str());
     }
     return 0;
   });

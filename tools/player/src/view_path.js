@@ -25,7 +25,8 @@ function azimuth(p, centre, up, e1) {
 
 export class ViewPath {
   // cameras: the stream's cameras (R row-major, t); the arc is the smallest one holding every
-  // camera's azimuth (the complement of the widest gap between neighbours).
+  // camera's azimuth (the complement of the widest gap between neighbours), as 3dvo-render's
+  // cameraArc takes it (docs/rendering.md, "Camera paths").
   constructor(cameras, centre, up) {
     this.centre = centre;
     this.up = up;
