@@ -10,7 +10,8 @@
 #   samba:   the 175 frames of samba with cfg/d3dmc-lossy.cfg (geometry only).
 #
 #   bash bench/browser_bench.sh [build folder, default build] [work folder, default a temporary
-#                               one, removed at the end; given, the streams are kept and reused]
+#                               one, removed at the end; given, it must be new or empty (or
+#                               made by this script before), and the streams are kept and reused]
 #
 # Needs the WebAssembly decoder (bash scripts/wasm.sh) and the player's node_modules
 # (build/player). Without the data, says so and exits 0.
@@ -27,7 +28,16 @@ if [ ! -f "$uu/cam1/video.avi" ] || [ ! -d "$samba" ]; then
   exit 0
 fi
 if [ -n "${2:-}" ]; then
+  # A given folder must be new, empty, or one this script made (its marker file): the script
+  # replaces uu-import/ and recon/ in it, so it refuses any other folder.
+  if [ -e "$2" ] && [ ! -f "$2/.browser_bench" ] &&
+    { [ ! -d "$2" ] || [ -n "$(ls -A "$2")" ]; }; then
+    echo "browser_bench: $2 exists and was not made by browser_bench.sh: give a new or empty" \
+      "folder (nothing in it was touched)" >&2
+    exit 1
+  fi
   work="$(mkdir -p "$2" && cd "$2" && pwd)"
+  touch "$work/.browser_bench"
 else
   work="$(mktemp -d)"
   trap 'rm -rf "$work"' EXIT
