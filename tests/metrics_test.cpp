@@ -258,6 +258,176 @@ TEST(SequenceErrors, RejectsMismatchedOrDegenerateInput) {
   EXPECT_THROW(temporalAverageError({{{0, 0, 0}}}, {}), Error);
 }
 
+// ---- STED ----
+
+// Two equilateral triangles of side 1 sharing the edge 1-2 (a rhombus in z = 0): vertices
+// 0 (0,0,0), 1 (1,0,0), 2 (1/2,√3/2,0), 3 (3/2,√3/2,0); edges 0-1, 0-2, 1-2, 1-3, 2-3, all of
+// length 1. Bounding-box diagonal D = sqrt(1.5² + 3/4) = √3.
+Mesh rhombus() {
+  const double h = std::sqrt(3.0) / 2;
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0.5, h, 0}, {1.5, h, 0}};
+  m.triangles = {{0, 1, 2}, {1, 3, 2}};
+  return m;
+}
+
+// The rhombus with vertex 3 lifted by √3: edges 1-3 and 2-3 become sqrt(1 + 3) = 2 long.
+Mesh liftedRhombus() {
+  Mesh m = rhombus();
+  m.positions[3][2] = std::sqrt(3.0);
+  return m;
+}
+
+// Reference: the rhombus, still, in frames 0 and 1. Test: frame 0 lifted, frame 1 exact.
+// dt·D = 1 (dt = 1/√3), c = 2.
+//
+// Spatial, frame 0: relative edge differences |l' − l| / l: 1-3 and 2-3 are 1, the others 0;
+// all weights (reference lengths) are 1, so each vertex's figure is the plain standard deviation
+// over the edges among its 1-ring and itself:
+//   vertex 0: {0,1,2}: edges 0-1, 0-2, 1-2: (0, 0, 0) -> 0
+//   vertex 1: {0,1,2,3}: all five edges: (0, 0, 0, 1, 1), mean 0.4,
+//             variance (3·0.16 + 2·0.36) / 5 = 0.24 -> √0.24
+//   vertex 2: the same as vertex 1 -> √0.24
+//   vertex 3: {1,2,3}: edges 1-2, 1-3, 2-3: (0, 1, 1), mean 2/3,
+//             variance (4/9 + 1/9 + 1/9) / 3 = 2/9 -> √2 / 3
+// Frame 1: every difference 0 -> 0 at every vertex.
+// STED_s = (0 + 2√0.24 + √2/3 + 4·0) / 8 vertex-frames ≈ 0.181400.
+//
+// Temporal, frames 0 -> 1: the reference does not move, so its temporal edges have length
+// sqrt(0 + (dt·D)²) = 1. In the test vertices 0-2 stay (length 1, difference 0) and vertex 3
+// falls by √3 (length sqrt(3 + 1) = 2, difference |1 − 2| / 1 = 1).
+// STED_t = (0 + 0 + 0 + 1) / 4 = 0.25; STED = sqrt(STED_s² + 2²·0.25²).
+struct StedCase {
+  std::vector<Mesh> reference{rhombus(), rhombus()};
+  std::vector<Mesh> test{liftedRhombus(), rhombus()};
+  StedParams params;
+  StedCase() {
+    params.timeStep = 1 / std::sqrt(3.0);
+    params.temporalWeight = 2;
+  }
+};
+
+const double kHandStedSpatial = (2 * std::sqrt(0.24) + std::sqrt(2.0) / 3) / 8;
+
+TEST(Sted, HandComputedTwoTrianglesOverTwoFrames) {
+  const StedCase c;
+  const StedAccumulator s = sted(c.reference, c.test, c.params);
+  EXPECT_EQ(s.frameCount(), 2);
+  EXPECT_NEAR(s.spatial(), kHandStedSpatial, 1e-12);
+  EXPECT_NEAR(s.spatial(), 0.181400, 1e-6);
+  ASSERT_TRUE(s.temporal().has_value());
+  EXPECT_NEAR(*s.temporal(), 0.25, 1e-12);
+  EXPECT_NEAR(*s.combined(), std::sqrt(kHandStedSpatial * kHandStedSpatial + 4 * 0.0625), 1e-12);
+  EXPECT_EQ(s.lastFrameSpatial(), 0.0);  // frame 1 is exact
+}
+
+TEST(Sted, NeighbourhoodWidthReachesAlongEdges) {
+  // Along-edge distances from vertex 0: 1 to vertices 1 and 2, 2 to vertex 3; from vertex 3
+  // the same mirrored. A radius w·D of 1.5 keeps the 1-ring; 2.5 takes in the whole rhombus,
+  // so every vertex sees all five edges (√0.24 in frame 0): STED_s = 4·√0.24 / 8.
+  StedCase c;
+  c.params.width = 1.5 / std::sqrt(3.0);
+  EXPECT_NEAR(sted(c.reference, c.test, c.params).spatial(), kHandStedSpatial, 1e-12);
+  c.params.width = 2.5 / std::sqrt(3.0);
+  EXPECT_NEAR(sted(c.reference, c.test, c.params).spatial(), std::sqrt(0.24) / 2, 1e-12);
+}
+
+TEST(Sted, OneFrameHasNoTemporalPart) {
+  const StedCase c;
+  const StedAccumulator s = sted({c.reference[0]}, {c.test[0]}, c.params);
+  EXPECT_NEAR(s.spatial(), (2 * std::sqrt(0.24) + std::sqrt(2.0) / 3) / 4, 1e-12);
+  EXPECT_FALSE(s.temporal().has_value());
+  EXPECT_FALSE(s.combined().has_value());
+}
+
+// `mesh` rotated by `angle` about the z axis, scaled by `scale` and moved by `shift`.
+Mesh similarity(Mesh mesh, double angle, double scale, const Vec3d& shift) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  for (Vec3d& p : mesh.positions)
+    p = {scale * (c * p[0] - s * p[1]) + shift[0], scale * (s * p[0] + c * p[1]) + shift[1],
+         scale * p[2] + shift[2]};
+  return mesh;
+}
+
+// A wobbling sphere and a copy with a deterministic per-vertex perturbation.
+struct NoisySphere {
+  std::vector<Mesh> reference = test::wobblingSphere(2, 4), test;
+  NoisySphere() {
+    test = reference;
+    for (size_t f = 0; f < test.size(); ++f)
+      for (size_t i = 0; i < test[f].positions.size(); ++i)
+        for (int k = 0; k < 3; ++k)
+          test[f].positions[i][k] += 0.01 * std::sin(1.7 * i + 2.3 * k + 0.9 * f);
+  }
+};
+
+TEST(Sted, IdenticalSequencesAreAtZero) {
+  const NoisySphere s;
+  const StedAccumulator a = sted(s.reference, s.reference);
+  EXPECT_EQ(a.spatial(), 0.0);
+  EXPECT_EQ(*a.temporal(), 0.0);
+  EXPECT_EQ(*a.combined(), 0.0);
+}
+
+TEST(Sted, InvariantToOneSimilarityOfBothSequences) {
+  // Rotating, scaling and moving both sequences alike changes no relative length (w and dt are
+  // fractions of the diagonal, which scales too). A quarter turn about z keeps the axis-aligned
+  // box's diagonal; other angles change it, and with it the scale of w and dt.
+  const NoisySphere s;
+  StedParams params;
+  params.width = 0.2;
+  std::vector<Mesh> reference, test;
+  for (size_t f = 0; f < s.reference.size(); ++f) {
+    reference.push_back(similarity(s.reference[f], std::acos(0.0), 3.0, {5, -2, 1}));
+    test.push_back(similarity(s.test[f], std::acos(0.0), 3.0, {5, -2, 1}));
+  }
+  const StedAccumulator a = sted(s.reference, s.test, params);
+  const StedAccumulator b = sted(reference, test, params);
+  EXPECT_GT(a.spatial(), 1e-3);
+  EXPECT_NEAR(b.spatial(), a.spatial(), 1e-9);
+  EXPECT_NEAR(*b.temporal(), *a.temporal(), 1e-9);
+}
+
+TEST(Sted, RigidOrScaledTestFramesHaveNoSpatialPart) {
+  // Each test frame a rigid motion of its reference frame (a different one per frame), or a
+  // uniform scaling of it: every edge changes by the same ratio, so the local deviations are
+  // 0. The motion between frames is an error the temporal part sees.
+  const NoisySphere s;
+  std::vector<Mesh> moved, scaled;
+  for (size_t f = 0; f < s.reference.size(); ++f) {
+    moved.push_back(similarity(s.reference[f], 0.1 * f, 1.0, {0.05 * f, 0, 0}));
+    scaled.push_back(similarity(s.reference[f], 0, 1.1, {0, 0, 0}));
+  }
+  const StedAccumulator rigid = sted(s.reference, moved);
+  EXPECT_NEAR(rigid.spatial(), 0.0, 1e-12);
+  EXPECT_GT(*rigid.temporal(), 1e-3);
+  EXPECT_NEAR(sted(s.reference, scaled).spatial(), 0.0, 1e-12);
+}
+
+TEST(Sted, RefusesDifferentConnectivityOrVertices) {
+  const StedCase c;
+  auto message = [](const std::vector<Mesh>& reference, const std::vector<Mesh>& test) {
+    return test::errorOf([&] { sted(reference, test); });
+  };
+  Mesh flipped = c.test[0];
+  flipped.triangles = {{0, 1, 3}, {0, 3, 2}};  // the other diagonal
+  EXPECT_NE(message({c.reference[0]}, {flipped}).find("connectivity"), std::string::npos);
+  Mesh extra = c.test[0];
+  extra.positions.push_back({0, 0, 1});
+  EXPECT_NE(message({c.reference[0]}, {extra}).find("vertices"), std::string::npos);
+  // The reference's own connectivity must stay the same over the sequence.
+  EXPECT_NE(message({c.reference[0], flipped}, {c.test[0], flipped}).find("first frame"),
+            std::string::npos);
+  Mesh bad = c.reference[0];
+  bad.triangles.push_back({0, 1, 9});
+  EXPECT_NE(message({bad}, {bad}).find("vertex"), std::string::npos);
+  EXPECT_NE(message({c.reference[0]}, {}).find("frames"), std::string::npos);
+  StedParams zeroTime;
+  zeroTime.timeStep = 0;
+  EXPECT_THROW(StedAccumulator{zeroTime}, Error);
+  EXPECT_THROW(StedAccumulator{}.spatial(), Error);  // no frames
+}
+
 // ---- vertex correspondence ----
 
 TEST(NearestCorrespondence, RecoversAShuffledOrder) {
@@ -518,7 +688,48 @@ TEST(MetricsApp, DifferentVertexCountsGiveSurfaceDistancesOnly) {
   EXPECT_NEAR(std::stod(rows[2][column(h, "hausdorff_max")]), 0.5, 1e-12);
   EXPECT_EQ(rows[2][column(h, "vertex_rmse")], "");
   EXPECT_EQ(rows[2][column(h, "kg_error")], "");
+  EXPECT_EQ(rows[2][column(h, "sted_s")], "");
   EXPECT_NE(r.out.find("no vertex errors"), std::string::npos);
+  EXPECT_NE(r.out.find("no STED"), std::string::npos);
+}
+
+TEST(MetricsApp, StedOfASequenceInTheInputsOrderMatchesTheLibrary) {
+  test::TempDir dir("metrics");
+  const NoisySphere s;
+  std::vector<Mesh> reference, decoded;  // as read back from the files
+  for (size_t f = 0; f < s.reference.size(); ++f) {
+    test::writeText(dir.file("ref_" + std::to_string(f) + ".obj"), formatObj(s.reference[f]));
+    test::writeText(dir.file("dec_" + std::to_string(f) + ".obj"), formatObj(s.test[f]));
+    reference.push_back(readObj(dir.file("ref_" + std::to_string(f) + ".obj")));
+    decoded.push_back(readObj(dir.file("dec_" + std::to_string(f) + ".obj")));
+  }
+  StedParams params;
+  params.width = 0.1;
+  params.timeStep = 0.5;
+  params.temporalWeight = 3;
+  const StedAccumulator expected = sted(reference, decoded, params);
+  const test::CommandResult r =
+      test::run(dir, kApp,
+                {"-r", "ref_%d.obj", "-t", "dec_%d.obj", "--StedWidth=0.1", "--StedTimeStep=0.5",
+                 "--StedWeight=3", "--CsvFile=m.csv"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto rows = readCsv(dir.file("m.csv"));
+  ASSERT_EQ(rows.size(), 1u + 4u + 1u);
+  const auto& h = rows[0];
+  EXPECT_NEAR(std::stod(rows[5][column(h, "sted_s")]), expected.spatial(), 1e-9);
+  EXPECT_NEAR(std::stod(rows[5][column(h, "sted_t")]), *expected.temporal(), 1e-9);
+  EXPECT_NEAR(std::stod(rows[5][column(h, "sted")]), *expected.combined(), 1e-9);
+  EXPECT_EQ(rows[1][column(h, "sted")], "");  // summary only
+  EXPECT_EQ(test::linesStartingWith(r.out, "STED_s").size(), 1u);
+  EXPECT_NE(r.out.find("w 0.1, dt 0.5, c 3"), std::string::npos) << r.out;
+
+  // Matched by nearest vertices the order is not the input's: no STED, and the report says why.
+  const test::CommandResult nearest = test::run(
+      dir, kApp,
+      {"-r", "ref_%d.obj", "-t", "dec_%d.obj", "--Correspondence=nearest", "--CsvFile=n.csv"});
+  ASSERT_EQ(nearest.exitCode, 0) << nearest.err;
+  EXPECT_EQ(readCsv(dir.file("n.csv"))[5][column(h, "sted")], "");
+  EXPECT_NE(nearest.out.find("no STED"), std::string::npos) << nearest.out;
 }
 
 TEST(MetricsApp, MissingFrameIsAnErrorNamingTheFileAndLeavesNoCsv) {

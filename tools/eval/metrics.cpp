@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <nanoflann.hpp>
+#include <queue>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -326,6 +328,203 @@ double temporalAverageError(const std::vector<std::vector<Vec3d>>& reference,
 double kgError(const std::vector<std::vector<Vec3d>>& reference,
                const std::vector<std::vector<Vec3d>>& test) {
   return accumulate(reference, test).kgError();
+}
+
+// ---- STED ----
+
+StedAccumulator::StedAccumulator(const StedParams& params) : params_(params) {
+  check(params.width >= 0 && std::isfinite(params.width),
+        "STED: the neighbourhood width w must be 0 or more");
+  check(params.timeStep > 0 && std::isfinite(params.timeStep),
+        "STED: the temporal edge scale dt must be positive");
+  check(params.temporalWeight >= 0 && std::isfinite(params.temporalWeight),
+        "STED: the weight c must be 0 or more");
+}
+
+// From the first reference frame: the edges, the scale D and each vertex's neighbourhood.
+void StedAccumulator::prepare(const Mesh& reference) {
+  triangles_ = reference.triangles;
+  vertexCount_ = reference.positions.size();
+  const size_t n = vertexCount_;
+  std::vector<std::array<uint32_t, 2>> directed;
+  for (size_t t = 0; t < triangles_.size(); ++t)
+    for (int c = 0; c < 3; ++c) {
+      const uint32_t a = triangles_[t][c], b = triangles_[t][(c + 1) % 3];
+      if (a >= n || b >= n)
+        throw Error("STED: triangle " + std::to_string(t) + " refers to a vertex beyond the " +
+                    std::to_string(n) + " of the reference");
+      if (a != b) directed.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::sort(directed.begin(), directed.end());
+  directed.erase(std::unique(directed.begin(), directed.end()), directed.end());
+  edges_ = std::move(directed);
+
+  // Incident edges of each vertex (CSR).
+  std::vector<uint32_t> incidentStart(n + 1, 0), incident(2 * edges_.size());
+  for (const auto& e : edges_) {
+    ++incidentStart[e[0] + 1];
+    ++incidentStart[e[1] + 1];
+  }
+  for (size_t v = 0; v < n; ++v)
+    incidentStart[v + 1] += incidentStart[v];
+  {
+    std::vector<uint32_t> fill(incidentStart.begin(), incidentStart.end() - 1);
+    for (uint32_t e = 0; e < edges_.size(); ++e) {
+      incident[fill[edges_[e][0]]++] = e;
+      incident[fill[edges_[e][1]]++] = e;
+    }
+  }
+  auto other = [&](uint32_t e, uint32_t v) {
+    return edges_[e][0] == v ? edges_[e][1] : edges_[e][0];
+  };
+  const std::vector<Vec3d>& p = reference.positions;
+  auto length = [&](uint32_t e) {
+    return std::sqrt(squaredLength(sub(p[edges_[e][0]], p[edges_[e][1]])));
+  };
+
+  BoundingBox box;
+  box.extend(p);
+  const double diagonal = box.diagonal();
+  check(diagonal > 0, "STED: the first reference frame has all its vertices at one point");
+  timeLength_ = params_.timeStep * diagonal;
+  const double radius = params_.width * diagonal;
+
+  // The neighbourhood of v: v, its 1-ring, and the vertices within along-edge distance `radius`
+  // (Dijkstra, stopped at the radius); its edges are those with both ends in it.
+  std::vector<double> distance(n, std::numeric_limits<double>::infinity());
+  std::vector<uint32_t> stamp(n, UINT32_MAX), members;
+  using Entry = std::pair<double, uint32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  vertices_.clear();
+  neighbourhoodStart_.assign(1, 0);
+  neighbourhoodEdges_.clear();
+  for (uint32_t v = 0; v < n; ++v) {
+    if (incidentStart[v] == incidentStart[v + 1]) continue;  // on no edge
+    members.assign(1, v);
+    stamp[v] = v;
+    distance[v] = 0;
+    queue.push({0.0, v});
+    while (!queue.empty()) {
+      const auto [d, u] = queue.top();
+      queue.pop();
+      if (d > distance[u]) continue;
+      for (uint32_t k = incidentStart[u]; k < incidentStart[u + 1]; ++k) {
+        const uint32_t e = incident[k], x = other(e, u);
+        const double dx = d + length(e);
+        if (!(dx <= radius || u == v)) continue;  // the 1-ring always belongs
+        if (stamp[x] != v) {
+          stamp[x] = v;
+          members.push_back(x);
+          distance[x] = std::numeric_limits<double>::infinity();
+        }
+        if (dx < distance[x]) {
+          distance[x] = dx;
+          queue.push({dx, x});
+        }
+      }
+    }
+    for (uint32_t u : members)
+      for (uint32_t k = incidentStart[u]; k < incidentStart[u + 1]; ++k) {
+        const uint32_t e = incident[k], x = other(e, u);
+        if (u < x && stamp[x] == v) neighbourhoodEdges_.push_back(e);
+      }
+    vertices_.push_back(v);
+    neighbourhoodStart_.push_back(static_cast<uint32_t>(neighbourhoodEdges_.size()));
+  }
+  check(!vertices_.empty(), "STED: the reference has no edges");
+}
+
+void StedAccumulator::addFrame(const Mesh& reference, const Mesh& test) {
+  const std::string frame = "STED: frame " + std::to_string(frames_);
+  if (frames_ == 0) prepare(reference);
+  check(reference.positions.size() == vertexCount_ && reference.triangles == triangles_,
+        frame +
+            ": the reference's vertex count or triangle list differs from the first frame's "
+            "(STED needs one connectivity for the whole sequence)");
+  check(test.positions.size() == vertexCount_,
+        frame + ": the test has " + std::to_string(test.positions.size()) +
+            " vertices, the reference " + std::to_string(vertexCount_) +
+            " (STED needs the same vertices in the same order)");
+  check(test.triangles == triangles_,
+        frame +
+            ": the test's triangle list differs from the reference's (STED needs the same "
+            "connectivity and vertex order)");
+  const std::vector<Vec3d>&a = reference.positions, &b = test.positions;
+
+  // Relative edge-length differences, weighted by the reference length; edges of zero reference
+  // length are left out (weight 0).
+  std::vector<double> difference(edges_.size()), weight(edges_.size());
+  for (size_t e = 0; e < edges_.size(); ++e) {
+    const auto [i, j] = edges_[e];
+    const double l = std::sqrt(squaredLength(sub(a[i], a[j])));
+    const double lt = std::sqrt(squaredLength(sub(b[i], b[j])));
+    weight[e] = l;
+    difference[e] = l > 0 ? std::abs(l - lt) / l : 0.0;
+  }
+  double frameSum = 0;
+  size_t frameTerms = 0;
+  for (size_t k = 0; k < vertices_.size(); ++k) {
+    double sumWeight = 0, sumDifference = 0;
+    for (uint32_t n = neighbourhoodStart_[k]; n < neighbourhoodStart_[k + 1]; ++n) {
+      const uint32_t e = neighbourhoodEdges_[n];
+      sumWeight += weight[e];
+      sumDifference += weight[e] * difference[e];
+    }
+    if (!(sumWeight > 0)) continue;  // every edge of the neighbourhood degenerate
+    const double mean = sumDifference / sumWeight;
+    double sumSquares = 0;
+    for (uint32_t n = neighbourhoodStart_[k]; n < neighbourhoodStart_[k + 1]; ++n) {
+      const uint32_t e = neighbourhoodEdges_[n];
+      sumSquares += weight[e] * (difference[e] - mean) * (difference[e] - mean);
+    }
+    frameSum += std::sqrt(sumSquares / sumWeight);
+    ++frameTerms;
+  }
+  lastSpatial_ = frameTerms > 0 ? frameSum / static_cast<double>(frameTerms) : 0.0;
+  sumSpatial_ += frameSum;
+  spatialTerms_ += frameTerms;
+
+  // Temporal edges from the previous frame: 4D vectors (displacement, dt·D).
+  if (frames_ > 0) {
+    const double t2 = timeLength_ * timeLength_;
+    for (uint32_t v : vertices_) {
+      const double l = std::sqrt(squaredLength(sub(a[v], previousReference_[v])) + t2);
+      const double lt = std::sqrt(squaredLength(sub(b[v], previousTest_[v])) + t2);
+      sumTemporal_ += std::abs(l - lt) / l;
+    }
+    temporalTerms_ += vertices_.size();
+  }
+  previousReference_ = a;
+  previousTest_ = b;
+  ++frames_;
+}
+
+double StedAccumulator::spatial() const {
+  check(frames_ > 0, "STED: no frames");
+  return spatialTerms_ > 0 ? sumSpatial_ / static_cast<double>(spatialTerms_) : 0.0;
+}
+
+std::optional<double> StedAccumulator::temporal() const {
+  if (temporalTerms_ == 0) return std::nullopt;
+  return sumTemporal_ / static_cast<double>(temporalTerms_);
+}
+
+std::optional<double> StedAccumulator::combined() const {
+  const std::optional<double> t = temporal();
+  if (!t) return std::nullopt;
+  const double s = spatial(), c = params_.temporalWeight;
+  return std::sqrt(s * s + c * c * *t * *t);
+}
+
+StedAccumulator sted(const std::vector<Mesh>& reference, const std::vector<Mesh>& test,
+                     const StedParams& params) {
+  check(reference.size() == test.size(), "STED: the reference has " +
+                                             std::to_string(reference.size()) +
+                                             " frames, the test " + std::to_string(test.size()));
+  StedAccumulator accumulator(params);
+  for (size_t f = 0; f < reference.size(); ++f)
+    accumulator.addFrame(reference[f], test[f]);
+  return accumulator;
 }
 
 std::vector<uint32_t> nearestVertexCorrespondence(const std::vector<Vec3d>& reference,

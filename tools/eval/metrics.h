@@ -1,11 +1,13 @@
 // Geometry metrics: how far a decoded mesh (or mesh sequence) is from its reference.
 //
-// Two families, documented with their formulas and sources in docs/metrics.md:
+// Three families, documented with their formulas and sources in docs/metrics.md:
 //  - surface distances between meshes of arbitrary topology: the symmetric point-to-surface
 //    Hausdorff distance (max and mean), sampled at the vertices of each mesh against the
 //    triangles of the other;
 //  - vertex errors between meshes with the same vertex count and a known vertex correspondence:
-//    vertex RMSE, the temporal average error D_A and the KG error (Karni & Gotsman 2004).
+//    vertex RMSE, the temporal average error D_A and the KG error (Karni & Gotsman 2004);
+//  - edge errors between sequences with the same connectivity and vertex order: STED, the
+//    spatio-temporal edge difference (Váša & Skala 2011).
 // Decoded 3DVO frames keep the input's vertex order (identity correspondence); for coders that
 // reorder vertices, nearestVertexCorrespondence recovers a correspondence from the positions.
 //
@@ -121,6 +123,68 @@ double temporalAverageError(const std::vector<std::vector<Vec3d>>& reference,
                             const std::vector<std::vector<Vec3d>>& test);
 double kgError(const std::vector<std::vector<Vec3d>>& reference,
                const std::vector<std::vector<Vec3d>>& test);
+
+// ---- STED, the spatio-temporal edge difference ----
+// (L. Váša, V. Skala, "A perception correlated comparison method for dynamic meshes", IEEE
+// TVCG 17(2), 2011). Formulas, parameters and where each comes from: docs/metrics.md, "STED".
+// It needs the same connectivity and vertex order on both sides (3DVO's decoded frames have
+// them): every frame of both sequences has the first reference frame's triangle list.
+
+// The scale parameters. Lengths are fractions of the diagonal D of the first reference frame's
+// bounding box (the object's size, not that of its path through the scene).
+struct StedParams {
+  // w: the spatial neighbourhood of a vertex is the vertices within along-edge (graph geodesic)
+  // distance w·D of it on the first reference frame, always with its 1-ring; its edges are the
+  // edges between them. 0 = the 1-ring alone.
+  double width = 0.0;
+  // dt: a temporal edge joins a vertex's positions in frames f and f+1; its length is that of
+  // the 4D vector (displacement, dt·D). Must be positive.
+  double timeStep = 0.3;
+  // c: STED = sqrt(STED_s² + c²·STED_t²).
+  double temporalWeight = 1.0;
+};
+
+// STED accumulated frame by frame (the frames need not be held in memory together).
+class StedAccumulator {
+ public:
+  explicit StedAccumulator(const StedParams& params = {});
+
+  // Adds frame f of both sequences. Throws Error when the test and the reference differ in
+  // vertex count or triangle list, when either differs from the first frame's, or (first
+  // frame) when the mesh has no edge of non-zero length or a triangle names a missing vertex.
+  void addFrame(const Mesh& reference, const Mesh& test);
+
+  int frameCount() const { return frames_; }
+  // STED_s: the mean over frames and vertices of the local (length-weighted) standard deviation
+  // of the relative edge-length differences in the vertex's neighbourhood.
+  double spatial() const;
+  // STED_t: the mean over frame pairs and vertices of the relative temporal-edge-length
+  // differences. Absent for a single frame.
+  std::optional<double> temporal() const;
+  // sqrt(STED_s² + c²·STED_t²); absent for a single frame.
+  std::optional<double> combined() const;
+  // The spatial part of the last frame added.
+  double lastFrameSpatial() const { return lastSpatial_; }
+
+ private:
+  void prepare(const Mesh& reference);
+
+  StedParams params_;
+  int frames_ = 0;
+  double timeLength_ = 0;  // dt·D
+  std::vector<Triangle> triangles_;
+  size_t vertexCount_ = 0;
+  std::vector<std::array<uint32_t, 2>> edges_;  // each undirected edge once
+  // Vertices with at least one edge, and the edges of each one's neighbourhood (CSR).
+  std::vector<uint32_t> vertices_, neighbourhoodStart_, neighbourhoodEdges_;
+  std::vector<Vec3d> previousReference_, previousTest_;
+  double sumSpatial_ = 0, sumTemporal_ = 0, lastSpatial_ = 0;
+  size_t spatialTerms_ = 0, temporalTerms_ = 0;
+};
+
+// Whole-sequence shorthand: the accumulator fed with every frame.
+StedAccumulator sted(const std::vector<Mesh>& reference, const std::vector<Mesh>& test,
+                     const StedParams& params = {});
 
 // A vertex correspondence from positions: result[i] is the reference vertex matched to test
 // vertex i; it is a one-to-one map (a permutation). Each test vertex is matched to its nearest

@@ -1,8 +1,8 @@
 // 3dvo-metrics: geometry distortion between a reference and a test mesh sequence (or two single
-// meshes): point-to-surface Hausdorff distances per frame, and vertex RMSE, D_A and the KG error
-// when the vertex counts match. With ReferenceDataset and TestDataset instead: texture PSNR
-// (object and frame) between an original dataset and a decoded one (texture_metrics.h).
-// Formulas and conventions: docs/metrics.md.
+// meshes): point-to-surface Hausdorff distances per frame, vertex RMSE, D_A and the KG error
+// when the vertex counts match, and STED when the connectivity matches too. With ReferenceDataset
+// and TestDataset instead: texture PSNR (object and frame) between an original dataset and a
+// decoded one (texture_metrics.h). Formulas and conventions: docs/metrics.md.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -36,6 +36,7 @@ struct Params {
   int referenceFirstFrame = 0, testFirstFrame = 0, frameCount = 0, groupSize = 1;
   Correspondence correspondence = Correspondence::kIdentity;
   bool relative = false;
+  StedParams sted;
   TextureMetricsParams texture;  // the texture mode's own keys (ReferenceDataset, ...)
 
   void registerOptions(OptionTable& t) {
@@ -71,6 +72,16 @@ struct Params {
     t.add("Relative", relative,
           "report distances divided by the diagonal of the reference bounding box (over all "
           "compared frames) instead of in OBJ units");
+    t.section("STED (spatio-temporal edge difference, Vasa & Skala 2011)");
+    t.add("StedWidth", sted.width, 0.0, 1.0,
+          "w: a vertex's spatial neighbourhood is its 1-ring and the vertices within along-edge "
+          "distance w x D of it (D = diagonal of the first reference frame's bounding box; "
+          "0 = the 1-ring alone)");
+    t.add("StedTimeStep", sted.timeStep, 1e-6, 100.0,
+          "dt: the time component of a temporal edge (a vertex's move from one frame to the "
+          "next), as a fraction of D");
+    t.add("StedWeight", sted.temporalWeight, 0.0, 1000.0,
+          "c: STED = sqrt(STED_s^2 + c^2 STED_t^2)");
     t.section("Textures (instead of meshes)");
     t.add("ReferenceDataset", texture.referenceDataset,
           "texture mode: the original dataset (folder or dataset.json) whose camera frames were "
@@ -199,6 +210,10 @@ int main(int argc, char** argv) {
     BoundingBox box;
     SequenceErrorAccumulator sequenceErrors;
     std::string vertexErrorsMissing;  // why the sequence vertex errors are undefined, if they are
+    StedAccumulator stedErrors(p.sted);
+    std::string stedMissing;  // why STED is undefined, if it is
+    if (p.correspondence != Correspondence::kIdentity)
+      stedMissing = "STED needs the same vertex order on both sides (Correspondence identity)";
     std::vector<uint32_t> correspondence;
     bool haveCorrespondence = false;
     {
@@ -250,6 +265,13 @@ int main(int argc, char** argv) {
             sequenceErrors.addFrame(reference.positions, aligned);
         }
         if (!problem.empty() && vertexErrorsMissing.empty()) vertexErrorsMissing = problem;
+        if (stedMissing.empty()) {
+          try {
+            stedErrors.addFrame(reference, test);
+          } catch (const Error& e) {
+            stedMissing = testPaths[k] + ": " + e.what();
+          }
+        }
         progress.tick(k + 1);
       }
     }
@@ -290,6 +312,11 @@ int main(int argc, char** argv) {
     std::printf("reference diagonal  : %s\n", format(diagonal, 6).c_str());
     std::printf("distances           : %s\n",
                 p.relative ? "relative to the reference diagonal" : "OBJ units");
+    std::printf(
+        "STED parameters     : w %s, dt %s, c %s (fractions of the first reference "
+        "frame's diagonal)\n",
+        format(p.sted.width, 6).c_str(), format(p.sted.timeStep, 6).c_str(),
+        format(p.sted.temporalWeight, 6).c_str());
 
     std::printf("# per frame: H = symmetric Hausdorff, r->t / t->r = one-sided (max, mean)\n");
     std::printf("%6s %6s %6s %8s %8s %11s %11s %11s %11s %11s %11s %11s %11s\n", "frame", "ref",
@@ -298,7 +325,8 @@ int main(int argc, char** argv) {
     std::string csv =
         "frame,reference_frame,test_frame,reference_vertices,test_vertices,hausdorff_max,"
         "hausdorff_mean,reference_to_test_max,reference_to_test_mean,test_to_reference_max,"
-        "test_to_reference_mean,vertex_rmse,vertex_mean_error,kg_error,unit,diagonal\n";
+        "test_to_reference_mean,vertex_rmse,vertex_mean_error,kg_error,sted_s,sted_t,sted,unit,"
+        "diagonal\n";
     const std::string unitName = p.relative ? "diagonal" : "absolute";
     double hausdorffMax = 0, hausdorffMeanSum = 0, rtMax = 0, rtMeanSum = 0, trMax = 0,
            trMeanSum = 0;
@@ -329,15 +357,20 @@ int main(int argc, char** argv) {
              std::to_string(r.testVertices);
       for (const auto& v : values)
         csv += "," + csvCell(v);
-      csv += ",," + unitName + "," + format(diagonal) + "\n";
+      csv += ",,,,," + unitName + "," + format(diagonal) + "\n";
     }
 
     const double n = static_cast<double>(frames);
-    std::optional<double> rmse, da, kg;
+    std::optional<double> rmse, da, kg, stedSpatial, stedTemporal, stedCombined;
     if (vertexErrorsMissing.empty()) {
       rmse = sequenceErrors.vertexRmse();
       da = sequenceErrors.temporalAverageError();
       kg = sequenceErrors.kgError();
+    }
+    if (stedMissing.empty()) {
+      stedSpatial = stedErrors.spatial();
+      stedTemporal = stedErrors.temporal();
+      stedCombined = stedErrors.combined();
     }
     const std::vector<std::optional<double>> summary = {scaled(hausdorffMax),
                                                         scaled(hausdorffMeanSum / n),
@@ -347,7 +380,10 @@ int main(int argc, char** argv) {
                                                         scaled(trMeanSum / n),
                                                         scaledOpt(rmse),
                                                         scaledOpt(da),
-                                                        kg};
+                                                        kg,
+                                                        stedSpatial,
+                                                        stedTemporal,
+                                                        stedCombined};
     csv += "all,,,,";
     for (const auto& v : summary)
       csv += "," + csvCell(v);
@@ -368,8 +404,12 @@ int main(int argc, char** argv) {
     line("vertex RMSE", summary[6], "  (all frames and vertices)");
     line("D_A", summary[7], "  (mean Euclidean vertex error)");
     line("KG error", summary[8], " %");
+    line("STED_s", summary[9], "  (spatial: local deviation of relative edge differences)");
+    line("STED_t", summary[10], "  (temporal: relative temporal edge differences)");
+    line("STED", summary[11], "  (sqrt(STED_s^2 + c^2 STED_t^2))");
     if (!vertexErrorsMissing.empty())
       std::printf("%-22s: %s\n", "no vertex errors", vertexErrorsMissing.c_str());
+    if (!stedMissing.empty()) std::printf("%-22s: %s\n", "no STED", stedMissing.c_str());
     if (!p.csvFile.empty()) std::printf("%-22s: %s\n", "csv", p.csvFile.c_str());
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -25,10 +25,11 @@ from . import texture_report
 from .sweep import SweepError
 
 # CSV columns, in order. Metric columns hold the text 3dvo-metrics printed (10 significant
-# digits); D_A is its summary `vertex_mean_error`.
-_METRIC_COLUMNS = ["D_A", "vertex_rmse", "kg_error", "hausdorff_max", "hausdorff_mean",
-                   "reference_to_test_max", "reference_to_test_mean", "test_to_reference_max",
-                   "test_to_reference_mean", "diagonal"]
+# digits); D_A is its summary `vertex_mean_error`; sted_s, sted_t and sted are STED's spatial and
+# temporal parts and STED itself (docs/metrics.md, "STED").
+_METRIC_COLUMNS = ["D_A", "vertex_rmse", "kg_error", "sted_s", "sted_t", "sted", "hausdorff_max",
+                   "hausdorff_mean", "reference_to_test_max", "reference_to_test_mean",
+                   "test_to_reference_max", "test_to_reference_mean", "diagonal"]
 _TIME_COLUMNS = ["encode_s", "decode_s", "metrics_s"]
 CSV_COLUMNS = (["sequence", "mode", "point", "setting", "frames", "vertices", "frame_rate",
                 "bytes", "kbit_s", "bits_per_vertex_frame"] + _METRIC_COLUMNS + _TIME_COLUMNS +
@@ -36,14 +37,16 @@ CSV_COLUMNS = (["sequence", "mode", "point", "setting", "frames", "vertices", "f
 # Columns that differ between two runs of the same sweep (wall-clock times).
 TIMING_COLUMNS = _TIME_COLUMNS
 
-# Distortions usable for BD figures, with what their PSNR-like quality divides by.
+# Distortions usable for BD figures, with what their PSNR-like quality divides by: the reference
+# diagonal for distances, 100 for the KG error (a percentage), 1 for STED (a ratio of lengths).
 DISTORTIONS = {
     "D_A": "diagonal", "vertex_rmse": "diagonal", "hausdorff_max": "diagonal",
-    "hausdorff_mean": "diagonal", "kg_error": 100.0,
+    "hausdorff_mean": "diagonal", "kg_error": 100.0, "sted": 1.0, "sted_s": 1.0, "sted_t": 1.0,
 }
 DISTORTION_NAMES = {
     "D_A": "D_A", "vertex_rmse": "vertex RMSE", "hausdorff_max": "Hausdorff max",
-    "hausdorff_mean": "Hausdorff mean", "kg_error": "KG error",
+    "hausdorff_mean": "Hausdorff mean", "kg_error": "KG error", "sted": "STED",
+    "sted_s": "STED_s", "sted_t": "STED_t",
 }
 RATES = {"kbit_s": "kbit/s", "bits_per_vertex_frame": "bits/vertex/frame"}
 
@@ -55,7 +58,8 @@ class GeometryKind:
     distortion_names = DISTORTION_NAMES
     default_distortion = ["D_A"]
     rates = RATES
-    quality_text = "quality = 20·log10(diagonal / distortion) dB"
+    quality_text = ("quality = 20·log10(peak / distortion) dB with the reference diagonal as the "
+                    "peak of distances, 100 for the KG error and 1 for STED")
 
     @staticmethod
     def row_of(result):
@@ -67,9 +71,10 @@ class GeometryKind:
 
     @staticmethod
     def axis_label(distortion):
-        return "20·log10(%s / %s) [dB]" % (
-            "diagonal" if DISTORTIONS[distortion] == "diagonal" else "100 %",
-            DISTORTION_NAMES[distortion])
+        peak = DISTORTIONS[distortion]
+        if peak != "diagonal":
+            peak = "100 %" if peak == 100.0 else "%g" % peak
+        return "20·log10(%s / %s) [dB]" % (peak, DISTORTION_NAMES[distortion])
 
     @staticmethod
     def sequence_section(sweep, rows):
@@ -86,18 +91,20 @@ class GeometryKind:
     @staticmethod
     def points_section(sequence, rows, labels):
         out = ["| mode | setting | kbit/s | bits/vertex/frame | D_A | vertex RMSE | "
-               "Hausdorff max | Hausdorff mean | KG % |",
-               "|---|---|---|---|---|---|---|---|---|"]
+               "Hausdorff max | Hausdorff mean | KG % | STED | STED_s | STED_t |",
+               "|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for r in rows:
             if r["sequence"] != sequence.name:
                 continue
-            out.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+            out.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
                 labels[r["mode"]], r["setting"], _fmt(r["kbit_s"], 6),
                 _fmt(r["bits_per_vertex_frame"]), _fmt(r["D_A"]), _fmt(r["vertex_rmse"]),
-                _fmt(r["hausdorff_max"]), _fmt(r["hausdorff_mean"]), _fmt(r["kg_error"])))
+                _fmt(r["hausdorff_max"]), _fmt(r["hausdorff_mean"]), _fmt(r["kg_error"]),
+                _fmt(r["sted"]), _fmt(r["sted_s"]), _fmt(r["sted_t"])))
         out.append("")
         diagonal = next((r["diagonal"] for r in rows if r["sequence"] == sequence.name), "")
-        out += ["Distances in OBJ units; reference bounding-box diagonal %s." % _fmt(diagonal, 6)]
+        out += ["Distances in OBJ units; reference bounding-box diagonal %s. KG in percent; STED "
+                "and its parts are ratios of lengths (docs/metrics.md)." % _fmt(diagonal, 6)]
         return out
 
 

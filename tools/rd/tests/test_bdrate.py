@@ -89,6 +89,20 @@ class BdRateTest(unittest.TestCase):
         self.assertEqual(bdrate.quality_db(0.0, 1.0), math.inf)
         self.assertIsNone(bdrate.quality_db(None, 1.0))
 
+    def test_report_quality_of_each_distortion(self):
+        # Distances against the diagonal, the KG error against 100 %, STED against 1.
+        from tdvo_rd import report
+        row = {"D_A": "0.02", "kg_error": "1", "sted": "0.01", "sted_s": "0.1", "sted_t": "",
+               "diagonal": "2"}
+        self.assertAlmostEqual(report.quality(row, "D_A"), 40.0)
+        self.assertAlmostEqual(report.quality(row, "kg_error"), 40.0)
+        self.assertAlmostEqual(report.quality(row, "sted"), 40.0)
+        self.assertAlmostEqual(report.quality(row, "sted_s"), 20.0)
+        self.assertIsNone(report.quality(row, "sted_t"))  # a single frame: no temporal part
+        self.assertEqual(report.GeometryKind.axis_label("sted"), "20·log10(1 / STED) [dB]")
+        self.assertEqual(report.GeometryKind.axis_label("kg_error"),
+                         "20·log10(100 % / KG error) [dB]")
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -56,6 +56,9 @@ class LocalRunTest(TempDirTestCase):
             # kbit/s from the stream size: bytes * 8 / 1000 * 25 fps / 8 frames.
             self.assertAlmostEqual(float(row["kbit_s"]), int(row["bytes"]) * 0.025, places=6)
             self.assertGreater(float(row["D_A"]), 0)
+            # STED: decoded frames keep the input's connectivity and order.
+            self.assertGreater(float(row["sted_s"]), 0)
+            self.assertGreaterEqual(float(row["sted"]), float(row["sted_s"]))
         # Finer quantisation costs rate and lowers D_A.
         intra = [r for r in rows if r["sequence"] == "blob2" and r["mode"] == "intra"]
         self.assertLess(int(intra[0]["bytes"]), int(intra[2]["bytes"]))
@@ -65,8 +68,8 @@ class LocalRunTest(TempDirTestCase):
             glob.glob(os.path.join(self.results, "jobs", "*.json"))[0]))
         self.assertEqual(result["status"], "ok")
         self.assertEqual(result["executor"], "local")
-        for name in ("vertex_rmse", "vertex_mean_error", "kg_error", "hausdorff_max",
-                     "hausdorff_mean", "diagonal"):
+        for name in ("vertex_rmse", "vertex_mean_error", "kg_error", "sted_s", "sted_t", "sted",
+                     "hausdorff_max", "hausdorff_mean", "diagonal"):
             self.assertIn(name, result["metrics"])
         self.assertEqual(set(result["time"]), {"encode_s", "decode_s", "metrics_s"})
 
@@ -187,6 +190,9 @@ class LocalRunTest(TempDirTestCase):
                 self.assert_no_leftovers()
 
     def test_report_redraws_from_the_cache(self):
+        # BD figures and plots by D_A, by the KG error and by STED.
+        support.write_sweep(self.sweep, self.patterns,
+                            extra='distortion = ["D_A", "kg_error", "sted"]\n')
         bin_dir = self.bin_dir()
         page = os.path.join(self.tmp, "docs", "results-test.md")
         support.run_rd(*self.run_args(bin_dir, "--report", page))
@@ -194,14 +200,18 @@ class LocalRunTest(TempDirTestCase):
         files = os.path.join(self.tmp, "docs", "results-test")
         expected = {"rd.csv", "bd.csv"}
         for seq in ("blob2", "blob3"):
-            expected |= {"%s-D_A.png" % seq, "%s-D_A.svg" % seq}
+            for distortion in ("D_A", "kg_error", "sted"):
+                expected |= {"%s-%s.png" % (seq, distortion), "%s-%s.svg" % (seq, distortion)}
         self.assertEqual(set(os.listdir(files)), expected)
         first = support.read_text(page)
-        self.assertIn("### D_A, against intra-only", first)
+        for name in ("D_A", "KG error", "STED"):
+            self.assertIn("### %s, against intra-only" % name, first)
         self.assertIn("![blob2, D_A](results-test/blob2-D_A.svg)", first)
+        self.assertIn("| KG % | STED | STED_s | STED_t |", first)
         svg = support.read_text(os.path.join(files, "blob3-D_A.svg"))
         bd = support.read_text(os.path.join(files, "bd.csv"))
-        self.assertIn("blob3,D_A,intra,d3dmc,pchip,", bd)
+        for distortion in ("D_A", "kg_error", "sted"):
+            self.assertIn("blob3,%s,intra,d3dmc,pchip," % distortion, bd)
 
         os.unlink(page)
         out = support.run_rd("report", self.sweep, "--results", self.results, "--bin-dir",
