@@ -3,6 +3,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 
@@ -192,6 +193,8 @@ bool UnitFileReader::next(UnitView& unit) {
 
 namespace {
 
+std::atomic<uint64_t> unitsRead{0};  // arrivingUnitsRead()
+
 // Reads the units of an ArrivingStream, each copied into a buffer of its own.
 class ArrivingUnitReader : public UnitSource {
  public:
@@ -220,6 +223,7 @@ class ArrivingUnitReader : public UnitSource {
     unit_.assign(stream_.data() + pos_, stream_.data() + pos_ + take);
     parseUnit(unit_.data(), available, pos_, index_++, stream_.name(), unit);
     pos_ += kUnitOverhead + unit.size;
+    unitsRead.fetch_add(1, std::memory_order_relaxed);
     return true;
   }
 
@@ -273,9 +277,18 @@ void ArrivingStream::scan() {
   }
 }
 
+const uint8_t* ArrivingStream::payload(const UnitStart& u) const {
+  unitsRead.fetch_add(1, std::memory_order_relaxed);
+  return bytes_.data() + u.offset + kUnitHeaderSize;
+}
+
 std::unique_ptr<UnitSource> ArrivingStream::source() const {
   if (finished_ && bytes_.size() < 4) throw Error(name_ + kNotA3dvoStream);
   return std::make_unique<ArrivingUnitReader>(*this);
+}
+
+uint64_t arrivingUnitsRead() {
+  return unitsRead.load(std::memory_order_relaxed);
 }
 
 }  // namespace tdvo

@@ -145,6 +145,8 @@ class ArrivingStream {
   bool scanBlocked() const { return blocked_; }
   // Whether the bytes before stream offset `end` have arrived (or the stream is finished).
   bool arrived(uint64_t end) const { return finished_ || end <= bytes_.size(); }
+  // The payload of unit `u` (read in place: call arrived(u.end()) first); counted as a read.
+  const uint8_t* payload(const UnitStart& u) const;
   std::unique_ptr<UnitSource> source() const;
 
  private:
@@ -155,5 +157,10 @@ class ArrivingStream {
   uint64_t scanned_ = 4;  // the next unit's offset
   bool blocked_ = false, finished_ = false;
 };
+
+// How many times units of arriving streams have been read, process-wide: one for each unit a
+// source over one returns, and one for each ArrivingStream::payload(). A statistic for tests
+// that bound the reading work by the stream's size (each unit read a bounded number of times).
+uint64_t arrivingUnitsRead();
 
 }  // namespace tdvo

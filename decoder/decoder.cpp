@@ -159,7 +159,7 @@ bool Decoder::canDecodeNext() {
     if (!a.arrived(u.end())) return false;
     GomHeader gh;
     try {
-      ByteReader reader(a.data() + u.offset + kUnitHeaderSize, u.size, s.name, u.offset);
+      ByteReader reader(a.payload(u), u.size, s.name, u.offset);
       transfer(reader, gh);
     } catch (const Error&) {
       return true;  // a malformed GOM header: next() reports it
