@@ -31,8 +31,14 @@ struct Decoder::State {
   std::unique_ptr<UnitSource> units, textureUnits;  // geometry and texture units
   std::unique_ptr<StreamDecoder> decoder;
   StreamInfo info;
-  std::optional<std::vector<int64_t>> gomStarts;
-  std::vector<int64_t> partialGomStarts;  // an arriving stream's so far
+  // gomStarts(): the random access points found so far, all of them once `startsUnits` has
+  // read the stream to its end. An arriving stream's are found as its units arrive, each unit
+  // read once (`startsRead` of them so far). An error is kept, and given again.
+  std::vector<int64_t> gomStarts;
+  bool gomStartsComplete = false;
+  std::unique_ptr<UnitSource> startsUnits;
+  size_t startsRead = 0;
+  std::optional<std::string> startsError;
 
   PictureDecoderFactory pictures;
   bool keepAccessUnits = false;
@@ -234,33 +240,40 @@ bool Decoder::next(DecodedFrame& frame) {
 
 const std::vector<int64_t>& Decoder::gomStarts() {
   State& s = *s_;
-  if (s.gomStarts) return *s.gomStarts;
+  if (s.gomStartsComplete) return s.gomStarts;
   info();  // the header must have arrived
-  std::vector<int64_t> starts;
-  std::unique_ptr<UnitSource> units = s.source();
-  UnitView unit;
+  if (s.startsError) throw Error(*s.startsError);
   // An arriving stream, before finish(): the units that have arrived.
   const bool partial = s.arriving && !s.arriving->finished();
-  size_t read = 0;
   const auto more = [&] {
     if (!partial) return true;
     const auto& arrived = s.arriving->units();
-    return read < arrived.size() && s.arriving->arrived(arrived[read].end());
+    return s.startsRead < arrived.size() && s.arriving->arrived(arrived[s.startsRead].end());
   };
-  while (more() && units->next(unit)) {
-    ++read;
-    if (unit.type != static_cast<uint8_t>(UnitType::kGomHeader)) continue;
-    GomHeader gh;
-    ByteReader reader(unit.payload, unit.size, s.name + ": " + unit.describe(), unit.payloadOffset);
-    transfer(reader, gh);
-    reader.expectEnd("the GOM header");
-    if (gh.gh_random_access) starts.push_back(s.info.frameNumber(gh.gh_first_frame));
+  try {
+    if (!s.startsUnits) s.startsUnits = s.source();
+    UnitView unit;
+    while (more() && s.startsUnits->next(unit)) {
+      ++s.startsRead;
+      if (unit.type != static_cast<uint8_t>(UnitType::kGomHeader)) continue;
+      GomHeader gh;
+      ByteReader reader(unit.payload, unit.size, s.name + ": " + unit.describe(),
+                        unit.payloadOffset);
+      transfer(reader, gh);
+      reader.expectEnd("the GOM header");
+      if (gh.gh_random_access) s.gomStarts.push_back(s.info.frameNumber(gh.gh_first_frame));
+    }
+  } catch (const Error& e) {
+    // The units before the bad one do not change: a new reading would stop here again.
+    s.startsError = e.what();
+    s.startsUnits.reset();
+    throw;
   }
-  s.gomStarts = std::move(starts);
-  if (!partial) return *s.gomStarts;
-  s.partialGomStarts.swap(*s.gomStarts);
-  s.gomStarts.reset();  // more may arrive
-  return s.partialGomStarts;
+  if (!partial) {
+    s.gomStartsComplete = true;
+    s.startsUnits.reset();
+  }
+  return s.gomStarts;
 }
 
 void Decoder::seek(int64_t frameNumber) {
