@@ -280,6 +280,7 @@ void ArrivingStream::scan() {
       break;
     }
     units_.push_back(u);
+    if (u.type == static_cast<uint8_t>(UnitType::kGomHeader)) gomHeaders_.push_back(u);
     scanned_ = u.end();  // may lie past what has arrived: the payload is still arriving
   }
 }

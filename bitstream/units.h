@@ -142,6 +142,8 @@ class ArrivingStream {
   // Every unit whose header has arrived, in stream order. The scan stops at a unit_size over
   // the 1 GiB limit (scanBlocked(): the stream is bad there; a decoder reports it).
   const std::vector<UnitStart>& units() const { return units_; }
+  // The GOM_HEADER units among them.
+  const std::vector<UnitStart>& gomHeaders() const { return gomHeaders_; }
   bool scanBlocked() const { return blocked_; }
   // Whether the bytes before stream offset `end` have arrived (or the stream is finished).
   bool arrived(uint64_t end) const { return finished_ || end <= bytes_.size(); }
@@ -153,7 +155,7 @@ class ArrivingStream {
   void scan();
   std::string name_;
   std::vector<uint8_t> bytes_;
-  std::vector<UnitStart> units_;
+  std::vector<UnitStart> units_, gomHeaders_;
   uint64_t scanned_ = 4;  // the next unit's offset
   bool blocked_ = false, finished_ = false;
 };
