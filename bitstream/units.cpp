@@ -3,6 +3,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 
@@ -85,6 +86,23 @@ UnitReader::UnitReader(const uint8_t* data, size_t size, std::string name)
 }
 
 namespace {
+
+// How much of a unit a reader takes, when `available` bytes lie from the unit's start to the end
+// of the stream (or of what has arrived of it) and `header` holds the first
+// min(available, kUnitHeaderSize) of them.
+struct UnitBytes {
+  uint64_t present = 0;   // the whole unit, or as much of its header as there is
+  bool complete = false;  // enough for parseUnit to judge: the whole unit, or a header whose
+                          // unit_size exceeds the limit
+};
+
+UnitBytes unitBytesPresent(const uint8_t* header, uint64_t available) {
+  if (available < kUnitHeaderSize) return {available, false};
+  const uint32_t size = readU32(header + 1);
+  if (size > kMaxUnitSize) return {kUnitHeaderSize, true};
+  if (available - kUnitHeaderSize < uint64_t{size} + 4) return {kUnitHeaderSize, false};
+  return {kUnitOverhead + size, true};
+}
 
 // Checks the unit at `at` (stream offset `offset`, `available` bytes from there to the end of
 // the stream, of which at least the unit itself, or at least its header when the header is
@@ -176,12 +194,10 @@ bool UnitFileReader::next(UnitView& unit) {
   const size_t header = static_cast<size_t>(std::min<uint64_t>(available, kUnitHeaderSize));
   unit_.resize(header);
   read(unit_.data(), header);
-  if (header == kUnitHeaderSize) {
-    const uint32_t size = readU32(unit_.data() + 1);
-    if (size <= kMaxUnitSize && available - kUnitHeaderSize >= uint64_t{size} + 4) {
-      unit_.resize(kUnitOverhead + size);
-      read(unit_.data() + kUnitHeaderSize, size + 4);
-    }
+  const uint64_t present = unitBytesPresent(unit_.data(), available).present;
+  if (present > header) {
+    unit_.resize(static_cast<size_t>(present));
+    read(unit_.data() + header, static_cast<size_t>(present) - header);
   }
   parseUnit(unit_.data(), available, pos_, index_++, name_, unit);
   pos_ += kUnitOverhead + unit.size;
@@ -192,6 +208,8 @@ bool UnitFileReader::next(UnitView& unit) {
 
 namespace {
 
+std::atomic<uint64_t> unitsRead{0};  // arrivingUnitsRead()
+
 // Reads the units of an ArrivingStream, each copied into a buffer of its own.
 class ArrivingUnitReader : public UnitSource {
  public:
@@ -201,23 +219,16 @@ class ArrivingUnitReader : public UnitSource {
     const uint64_t size = stream_.size();
     if (pos_ >= size && stream_.finished()) return false;
     const uint64_t available = size - pos_;
-    if (!stream_.finished()) {
-      // Not yet arrived: the header, or (with a plausible size) the payload and CRC.
-      const bool header = available >= kUnitHeaderSize;
-      const uint32_t unitSize = header ? readU32(stream_.data() + pos_ + 1) : 0;
-      if (!header || (unitSize <= kMaxUnitSize && available < kUnitOverhead + uint64_t{unitSize}))
-        throw Error(stream_.name() + ": unit " + std::to_string(index_) + " at byte " +
-                    std::to_string(pos_) + " has not arrived yet (" + std::to_string(size) +
-                    " bytes so far)");
-    }
-    // As much of the unit as there is (parseUnit reports a short one), copied.
-    uint64_t take = std::min<uint64_t>(available, kUnitHeaderSize);
-    if (take == kUnitHeaderSize) {
-      const uint32_t unitSize = readU32(stream_.data() + pos_ + 1);
-      if (unitSize <= kMaxUnitSize && available >= kUnitOverhead + uint64_t{unitSize})
-        take = kUnitOverhead + unitSize;
-    }
-    unit_.assign(stream_.data() + pos_, stream_.data() + pos_ + take);
+    const uint8_t* at = stream_.data() + pos_;
+    const UnitBytes bytes = unitBytesPresent(at, available);
+    // Before the end, a unit parseUnit cannot judge yet has not arrived yet; after it, it is a
+    // short one, which parseUnit reports.
+    if (!bytes.complete && !stream_.finished())
+      throw Error(stream_.name() + ": unit " + std::to_string(index_) + " at byte " +
+                  std::to_string(pos_) + " has not arrived yet (" + std::to_string(size) +
+                  " bytes so far)");
+    unit_.assign(at, at + bytes.present);
+    unitsRead.fetch_add(1, std::memory_order_relaxed);
     parseUnit(unit_.data(), available, pos_, index_++, stream_.name(), unit);
     pos_ += kUnitOverhead + unit.size;
     return true;
@@ -269,13 +280,23 @@ void ArrivingStream::scan() {
       break;
     }
     units_.push_back(u);
+    if (u.type == static_cast<uint8_t>(UnitType::kGomHeader)) gomHeaders_.push_back(u);
     scanned_ = u.end();  // may lie past what has arrived: the payload is still arriving
   }
+}
+
+const uint8_t* ArrivingStream::payload(const UnitStart& u) const {
+  unitsRead.fetch_add(1, std::memory_order_relaxed);
+  return bytes_.data() + u.offset + kUnitHeaderSize;
 }
 
 std::unique_ptr<UnitSource> ArrivingStream::source() const {
   if (finished_ && bytes_.size() < 4) throw Error(name_ + kNotA3dvoStream);
   return std::make_unique<ArrivingUnitReader>(*this);
+}
+
+uint64_t arrivingUnitsRead() {
+  return unitsRead.load(std::memory_order_relaxed);
 }
 
 }  // namespace tdvo

@@ -142,18 +142,27 @@ class ArrivingStream {
   // Every unit whose header has arrived, in stream order. The scan stops at a unit_size over
   // the 1 GiB limit (scanBlocked(): the stream is bad there; a decoder reports it).
   const std::vector<UnitStart>& units() const { return units_; }
+  // The GOM_HEADER units among them.
+  const std::vector<UnitStart>& gomHeaders() const { return gomHeaders_; }
   bool scanBlocked() const { return blocked_; }
   // Whether the bytes before stream offset `end` have arrived (or the stream is finished).
   bool arrived(uint64_t end) const { return finished_ || end <= bytes_.size(); }
+  // The payload of unit `u` (read in place: call arrived(u.end()) first); counted as a read.
+  const uint8_t* payload(const UnitStart& u) const;
   std::unique_ptr<UnitSource> source() const;
 
  private:
   void scan();
   std::string name_;
   std::vector<uint8_t> bytes_;
-  std::vector<UnitStart> units_;
+  std::vector<UnitStart> units_, gomHeaders_;
   uint64_t scanned_ = 4;  // the next unit's offset
   bool blocked_ = false, finished_ = false;
 };
+
+// How many times units of arriving streams have been read, process-wide: one for each unit a
+// source over one returns, and one for each ArrivingStream::payload(). A statistic for tests
+// that bound the reading work by the stream's size (each unit read a bounded number of times).
+uint64_t arrivingUnitsRead();
 
 }  // namespace tdvo

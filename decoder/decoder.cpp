@@ -31,8 +31,20 @@ struct Decoder::State {
   std::unique_ptr<UnitSource> units, textureUnits;  // geometry and texture units
   std::unique_ptr<StreamDecoder> decoder;
   StreamInfo info;
-  std::optional<std::vector<int64_t>> gomStarts;
-  std::vector<int64_t> partialGomStarts;  // an arriving stream's so far
+  // gomStarts(): the random access points found so far, all of them once `startsUnits` has
+  // read the stream to its end. An arriving stream's are found as its units arrive, each unit
+  // read once (`startsRead` of them so far). An error is kept, and given again.
+  std::vector<int64_t> gomStarts;
+  bool gomStartsComplete = false;
+  std::unique_ptr<UnitSource> startsUnits;
+  size_t startsRead = 0;
+  std::optional<std::string> startsError;
+  // canDecodeNext()'s place among an arriving stream's GOM headers (restart() resets it).
+  struct GomCursor {
+    size_t at = 0;  // those before arriving->gomHeaders()[at] end before frame nextIndex
+    bool read = false, malformed = false;  // whether that one has been read, and how it was
+    uint64_t first = 0, end = 0;           // its first frame and the one after its last
+  } gom;
 
   PictureDecoderFactory pictures;
   bool keepAccessUnits = false;
@@ -58,6 +70,7 @@ struct Decoder::State {
     decoder->setPictureDecoder(pictures);
     decoder->setKeepAccessUnits(keepAccessUnits);
     nextIndex = first < 0 ? 0 : static_cast<uint32_t>(first - info.firstFrame);
+    gom = GomCursor();
     decoder->readHeader();
     headerRead = true;
     const SequenceHeader& sh = decoder->sequenceHeader();
@@ -150,24 +163,31 @@ bool Decoder::canDecodeNext() {
   // After the last frame, next() checks that nothing follows it: that needs the end.
   if (s.nextIndex >= s.info.frameCount) return false;
   if (a.scanBlocked()) return true;  // a unit_size over the limit: next() reports it
-  bool inGom = false;
-  for (const ArrivingStream::UnitStart& u : a.units()) {
-    if (u.type != static_cast<uint8_t>(UnitType::kGomHeader)) continue;
-    // A later GOM header has arrived: the units of the GOM holding the next frame all lie
-    // before it (a decoder that finds it out of place reads no further).
-    if (inGom) return a.arrived(u.end());
+  // From the GOM header the last call stopped at: next() only moves the next frame on (and
+  // restart() starts again), so a GOM that ends before it is passed for good.
+  const std::vector<ArrivingStream::UnitStart>& headers = a.gomHeaders();
+  State::GomCursor& gom = s.gom;
+  for (; gom.at < headers.size(); ++gom.at, gom.read = false) {
+    const ArrivingStream::UnitStart& u = headers[gom.at];
     if (!a.arrived(u.end())) return false;
-    GomHeader gh;
-    try {
-      ByteReader reader(a.data() + u.offset + kUnitHeaderSize, u.size, s.name, u.offset);
-      transfer(reader, gh);
-    } catch (const Error&) {
-      return true;  // a malformed GOM header: next() reports it
+    if (!gom.read) {
+      gom.read = true;
+      try {
+        GomHeader gh;
+        ByteReader reader(a.payload(u), u.size, s.name, u.offset);
+        transfer(reader, gh);
+        gom.first = gh.gh_first_frame;
+        gom.end = uint64_t{gh.gh_first_frame} + gh.gh_frame_count;
+      } catch (const Error&) {
+        gom.malformed = true;
+      }
     }
-    if (uint64_t{gh.gh_first_frame} + gh.gh_frame_count > s.nextIndex) {
-      if (gh.gh_first_frame > s.nextIndex) return true;  // not the expected GOM: next() says so
-      inGom = true;
-    }
+    if (gom.malformed) return true;  // a malformed GOM header: next() reports it
+    if (gom.end <= s.nextIndex) continue;
+    if (gom.first > s.nextIndex) return true;  // not the expected GOM: next() says so
+    // The GOM holding the next frame: its units all lie before the next GOM header (a decoder
+    // that finds it out of place reads no further).
+    return gom.at + 1 < headers.size() && a.arrived(headers[gom.at + 1].end());
   }
   return false;
 }
@@ -234,33 +254,40 @@ bool Decoder::next(DecodedFrame& frame) {
 
 const std::vector<int64_t>& Decoder::gomStarts() {
   State& s = *s_;
-  if (s.gomStarts) return *s.gomStarts;
+  if (s.gomStartsComplete) return s.gomStarts;
   info();  // the header must have arrived
-  std::vector<int64_t> starts;
-  std::unique_ptr<UnitSource> units = s.source();
-  UnitView unit;
+  if (s.startsError) throw Error(*s.startsError);
   // An arriving stream, before finish(): the units that have arrived.
   const bool partial = s.arriving && !s.arriving->finished();
-  size_t read = 0;
   const auto more = [&] {
     if (!partial) return true;
     const auto& arrived = s.arriving->units();
-    return read < arrived.size() && s.arriving->arrived(arrived[read].end());
+    return s.startsRead < arrived.size() && s.arriving->arrived(arrived[s.startsRead].end());
   };
-  while (more() && units->next(unit)) {
-    ++read;
-    if (unit.type != static_cast<uint8_t>(UnitType::kGomHeader)) continue;
-    GomHeader gh;
-    ByteReader reader(unit.payload, unit.size, s.name + ": " + unit.describe(), unit.payloadOffset);
-    transfer(reader, gh);
-    reader.expectEnd("the GOM header");
-    if (gh.gh_random_access) starts.push_back(s.info.frameNumber(gh.gh_first_frame));
+  try {
+    if (!s.startsUnits) s.startsUnits = s.source();
+    UnitView unit;
+    while (more() && s.startsUnits->next(unit)) {
+      ++s.startsRead;
+      if (unit.type != static_cast<uint8_t>(UnitType::kGomHeader)) continue;
+      GomHeader gh;
+      ByteReader reader(unit.payload, unit.size, s.name + ": " + unit.describe(),
+                        unit.payloadOffset);
+      transfer(reader, gh);
+      reader.expectEnd("the GOM header");
+      if (gh.gh_random_access) s.gomStarts.push_back(s.info.frameNumber(gh.gh_first_frame));
+    }
+  } catch (const Error& e) {
+    // The units before the bad one do not change: a new reading would stop here again.
+    s.startsError = e.what();
+    s.startsUnits.reset();
+    throw;
   }
-  s.gomStarts = std::move(starts);
-  if (!partial) return *s.gomStarts;
-  s.partialGomStarts.swap(*s.gomStarts);
-  s.gomStarts.reset();  // more may arrive
-  return s.partialGomStarts;
+  if (!partial) {
+    s.gomStartsComplete = true;
+    s.startsUnits.reset();
+  }
+  return s.gomStarts;
 }
 
 void Decoder::seek(int64_t frameNumber) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "bitstream/units.h"
 #include "common/core/error.h"
 #include "common/core/md5.h"
 #include "common/core/mesh_io.h"
@@ -17,6 +18,7 @@
 #include "decoder/texture/h264_decoder.h"
 #include "encoder/encoder.h"
 #include "encoder/input_frames.h"
+#include "stream_units.h"
 #include "test_support.h"
 
 using namespace tdvo;
@@ -383,6 +385,90 @@ TEST(DecoderApi, ArrivingStreamErrors) {
     }
     ASSERT_FALSE(want.empty());
     EXPECT_EQ(got, want);
+  }
+}
+
+// What an arriving stream costs is linear in its size: fed in small pieces, with gomStarts() and
+// canDecodeNext() asked after every piece (as the web player does), each unit is read a bounded
+// number of times (by gomStarts() once, by the decoding once, a GOM header by canDecodeNext()
+// once more), not once per call.
+TEST(DecoderApi, ArrivingStreamReadsEachUnitABoundedNumberOfTimes) {
+  const std::string name = "d3dmc_reuse_g3_ra2";
+  const std::vector<uint8_t> bytes = readBytes(streamPath(name));
+  const uint64_t units = split(bytes).size();
+  ASSERT_GE(countUnits(bytes, UnitType::kGomHeader), 3u);
+  const std::vector<int64_t> starts = Decoder::openFile(streamPath(name)).gomStarts();
+  const uint64_t before = arrivingUnitsRead();
+  Decoder decoder = Decoder::openArriving(name);
+  std::vector<std::string> geometry;
+  DecodedFrame frame;
+  const size_t piece = 16;
+  for (size_t given = 0; given < bytes.size(); given += piece) {
+    decoder.append(bytes.data() + given, std::min(piece, bytes.size() - given));
+    if (decoder.headerArrived()) decoder.gomStarts();
+    while (decoder.canDecodeNext()) {
+      ASSERT_TRUE(decoder.next(frame));
+      geometry.push_back(frame.geometryHashLine());
+    }
+  }
+  decoder.finish();
+  while (decoder.next(frame))
+    geometry.push_back(frame.geometryHashLine());
+  EXPECT_EQ(decoder.gomStarts(), starts);
+  EXPECT_EQ(geometry, logLines(name, "geometry="));
+  const uint64_t reads = arrivingUnitsRead() - before;
+  EXPECT_LE(reads, 3 * units) << reads << " unit reads for " << units << " units ("
+                              << bytes.size() / piece << " pieces)";
+}
+
+// gomStarts() before finish(), on a stream corrupted in a unit that has arrived, gives the error
+// gomStarts() gives for the whole stream, call after call: a GOM header's CRC or syntax, or the
+// CRC of any other unit (each unit's CRC is checked).
+TEST(DecoderApi, ArrivingStreamGomStartsErrors) {
+  const std::string name = "d3dmc_reuse_g3_ra2";
+  const std::vector<uint8_t> good = readBytes(streamPath(name));
+  std::vector<UnitView> views;
+  UnitReader reader(good.data(), good.size(), name);
+  for (UnitView unit; reader.next(unit);)
+    views.push_back(unit);
+  const auto last = [&](UnitType type) {  // the last unit of `type` but for the stream's last
+    size_t k = views.size() - 2;
+    while (k > 0 && views[k].type != static_cast<uint8_t>(type))
+      --k;
+    return k;
+  };
+  const size_t gom = last(UnitType::kGomHeader), pmesh = last(UnitType::kPMesh);
+  ASSERT_GT(gom, 1u);
+  ASSERT_GT(pmesh, 1u);
+  std::vector<std::vector<uint8_t>> bad;
+  bad.push_back(good), bad.back()[views[gom].payloadOffset] ^= 0x01;    // a GOM header's CRC
+  bad.push_back(good), bad.back()[views[pmesh].payloadOffset] ^= 0x01;  // a P mesh's CRC
+  std::vector<Unit> units = split(good);
+  units[gom].payload.push_back(0);  // a byte after the GOM header's syntax, the CRC right
+  bad.push_back(join(units));
+  for (const std::vector<uint8_t>& bytes : bad) {
+    std::string want;
+    try {
+      Decoder::openMemory(bytes.data(), bytes.size(), name).gomStarts();
+    } catch (const Error& e) {
+      want = e.what();
+    }
+    ASSERT_FALSE(want.empty());
+    Decoder decoder = Decoder::openArriving(name);
+    decoder.append(bytes.data(), bytes.size() - 1);  // all but the last unit
+    ASSERT_TRUE(decoder.headerArrived());
+    for (int call = 0; call < 3; ++call) {
+      if (call == 2) {
+        decoder.append(&bytes.back(), 1);
+        decoder.finish();
+      }
+      try {
+        decoder.gomStarts();
+        ADD_FAILURE() << "no error: " << want;
+      } catch (const Error& e) {
+        EXPECT_EQ(e.what(), want);
+      }
+    }
   }
 }
 
