@@ -92,7 +92,7 @@ void EncoderParams::registerOptions(OptionTable& t) {
         "instead of KeyframeCount and KeyframeMaxError: keyframes chosen per GOM to minimise "
         "J = D + KeyframeLambda * R (D: squared error of every frame against the quantised "
         "input, in grid units; R: P-mesh bits), never worse in J than every frame a keyframe; "
-        "0 = off; -1 = automatic: 0.115 * MotionQuantStep^2");
+        "0 = off; -1 = automatic: 0.4 * MotionQuantStep^2");
   t.section("Speed");
   t.add("Threads", threads, 0, 256,
         "GOMs encoded in parallel (0 = hardware concurrency); the stream, the MD5 lines and "

@@ -73,7 +73,7 @@ struct EncoderParams {
   // The lambda of the rate-distortion keyframe choice (squared grid units per bit): 0 when
   // KeyframeLambda is 0 (off); KeyframeLambda when > 0; automatic (-1):
   // kAutoKeyframeLambdaFactor * MotionQuantStep^2 (docs/options.md says how it was chosen).
-  static constexpr double kAutoKeyframeLambdaFactor = 0.115;
+  static constexpr double kAutoKeyframeLambdaFactor = 0.4;
   double effectiveKeyframeLambda() const;
   // Threads to use: Threads, or the hardware concurrency (at least 1) when Threads is 0.
   int threadCount() const;

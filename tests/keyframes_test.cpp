@@ -164,6 +164,16 @@ TEST(RdKeyframes, TinyLambdaKeepsEveryFrameHugeLambdaOnlyFirstAndLast) {
   EXPECT_EQ(huge.coded.gomKeyframes, (std::vector<size_t>{2, 2, 2}));
 }
 
+TEST(RdKeyframes, AutomaticLambdaFollowsMotionQuantStep) {
+  EncoderParams params;
+  EXPECT_EQ(params.effectiveKeyframeLambda(), 0);  // off by default
+  params.keyframeLambda = -1;
+  params.motionQuantStep = 8;
+  EXPECT_DOUBLE_EQ(params.effectiveKeyframeLambda(), EncoderParams::kAutoKeyframeLambdaFactor * 64);
+  params.keyframeLambda = 3;
+  EXPECT_EQ(params.effectiveKeyframeLambda(), 3);
+}
+
 TEST(RdKeyframes, SameStreamForAnyThreads) {
   const std::vector<Mesh> frames = deformingBlob(2, 30);
   const RdCoding one = codeWithKeyframeLambda(frames, 40, 0, 1);
