@@ -88,6 +88,11 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.add("KeyframeMaxError", keyframeMaxError, 0, 1e9,
         "instead of KeyframeCount: add keyframes until no interpolated coordinate is off by "
         "more than this many grid units; 0 = off");
+  t.add("KeyframeLambda", keyframeLambda, -1, 1e12,
+        "instead of KeyframeCount and KeyframeMaxError: keyframes chosen per GOM to minimise "
+        "J = D + KeyframeLambda * R (D: squared error of every frame against the quantised "
+        "input, in grid units; R: P-mesh bits), never worse in J than every frame a keyframe; "
+        "0 = off; -1 = automatic: 0.4 * MotionQuantStep^2");
   t.section("Speed");
   t.add("Threads", threads, 0, 256,
         "GOMs encoded in parallel (0 = hardware concurrency); the stream, the MD5 lines and "
@@ -127,6 +132,11 @@ double EncoderParams::effectiveLambda() const {
   return motionQuantStep == 1 ? 0.0 : kAutoLambdaFactor * motionQuantStep * motionQuantStep;
 }
 
+double EncoderParams::effectiveKeyframeLambda() const {
+  if (keyframeLambda >= 0) return keyframeLambda;
+  return kAutoKeyframeLambdaFactor * motionQuantStep * motionQuantStep;
+}
+
 int EncoderParams::threadCount() const {
   if (threads > 0) return threads;
   const unsigned hardware = std::thread::hardware_concurrency();
@@ -162,7 +172,12 @@ void EncoderParams::validateCoding() const {
         "(set 2 or more, or 0 for every frame)");
   check(!(keyframeCount > 0 && keyframeMaxError > 0),
         "KeyframeCount and KeyframeMaxError exclude each other: set one of them");
-  check(pmeshMode != PMeshMode::kIntra || (keyframeCount == 0 && keyframeMaxError == 0),
+  check(keyframeLambda == -1 || keyframeLambda >= 0,
+        "KeyframeLambda must be -1 (automatic), 0 (off) or positive");
+  check(keyframeLambda == 0 || (keyframeCount == 0 && keyframeMaxError == 0),
+        "KeyframeLambda excludes KeyframeCount and KeyframeMaxError: set one of them");
+  check(pmeshMode != PMeshMode::kIntra ||
+            (keyframeCount == 0 && keyframeMaxError == 0 && keyframeLambda == 0),
         "keyframes need P meshes: PMeshMode intra codes every frame");
   // Before any frame is read: a bad GOM list is found at once.
   // (FrameCount 0, all frames, is checked once the frames are counted.)

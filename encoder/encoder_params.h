@@ -47,9 +47,10 @@ struct EncoderParams {
   int motionQuantStep = 1;
   double lambda = -1.0;  // < 0: automatic, see effectiveLambda()
   int maxOctreeDepth = 20;
-  // Keyframes (P-mesh modes): 0 / 0 = every frame a keyframe
+  // Keyframes (P-mesh modes): 0 / 0 / 0 = every frame a keyframe
   int keyframeCount = 0;
   double keyframeMaxError = 0;
+  double keyframeLambda = 0;  // > 0: RD keyframe choice; -1: automatic (effectiveKeyframeLambda)
   // Speed
   int threads = 1;  // GOMs encoded in parallel; 0 = hardware concurrency (see threadCount())
   // Textures (coded when Dataset is set)
@@ -69,6 +70,11 @@ struct EncoderParams {
   // above, so that coarser residual quantisation also means coarser clustering.
   static constexpr double kAutoLambdaFactor = 0.1;
   double effectiveLambda() const;
+  // The lambda of the rate-distortion keyframe choice (squared grid units per bit): 0 when
+  // KeyframeLambda is 0 (off); KeyframeLambda when > 0; automatic (-1):
+  // kAutoKeyframeLambdaFactor * MotionQuantStep^2 (docs/options.md says how it was chosen).
+  static constexpr double kAutoKeyframeLambdaFactor = 0.4;
+  double effectiveKeyframeLambda() const;
   // Threads to use: Threads, or the hardware concurrency (at least 1) when Threads is 0.
   int threadCount() const;
   // The GOMs of a sequence of `frameCount` frames, (first frame, frame count) in stream frame

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <stdexcept>
 #include <utility>
 
 #include "bitstream/syntax.h"
 #include "common/core/error.h"
+#include "common/geometry/keyframes.h"
 #include "decoder/gom_decoder.h"
 #include "encoder/attributes_encoder.h"
 #include "encoder/keyframe_selection.h"
@@ -85,22 +87,10 @@ class GomCoder : public GomUnits {
           selectKeyframes(positions, params_.keyframeCount, params_.keyframeMaxError);
       gh.keyframes.assign(keys.begin(), keys.end());
     }
-    out_.units.push_back({UnitType::kGomHeader, serialise(gh)});
-
-    // A continuing GOM starts from the previous GOM's connectivity and last frame.
-    GomReference continued;
-    if (continues) {
-      out_.iMeshes.push_back(*continuation_->iMesh);
-      continued.mesh = {continuation_->last, continuation_->iMesh->decoded.triangles, {}};
-    }
-    decoder_.start(gh, params_.gridBits, "encoder's own GOM", continues ? &continued : nullptr);
-    for (size_t k = 0; k < count; ++k) {
-      const std::vector<Vec3i>& positions = decoder_.next(*this);
-      if (k == pendingFrame_ && positions != pending_)
-        throw std::logic_error("P-mesh reconstruction differs from the decoder's (frame " +
-                               std::to_string(first_ + k) + ")");
-      emit(positions, std::move(inputs_[k].positions));
-    }
+    if (pMeshes && params_.keyframeLambda != 0 && count > 2)
+      codeRdKeyframes(gh, continues);
+    else
+      codeFrames(gh, continues, false);
 
     // (`next` may be `continuation` itself: read it before writing.)
     if (next_ && pMeshes) {
@@ -112,7 +102,7 @@ class GomCoder : public GomUnits {
       following.inputAttributes =
           continues ? continuation_->inputAttributes : spanAttributes(inputs_[0]);
       following.normalMode = normalMode_;
-      following.last = decoder_.reference();  // the last keyframe: the GOM's last frame
+      following.last = out_.frames.back().positions;  // the last keyframe: the GOM's last frame
       *next_ = std::move(following);
     } else if (next_) {
       *next_ = GomContinuation();
@@ -122,7 +112,18 @@ class GomCoder : public GomUnits {
 
   // GomUnits: the I mesh of GOM frame k, coded now.
   void iMesh(uint32_t k, IntMesh& mesh, std::string& where) override {
-    codeIMesh(k, inputs_[k]);
+    if (k == 0 && iMeshCoded_) {  // a GOM coded again (codeRdKeyframes): the same I mesh
+      out_.units.insert(out_.units.end(), iMeshUnits_.begin(), iMeshUnits_.end());
+      out_.iMeshes.push_back(*iMeshCoded_);
+    } else {
+      const size_t mark = out_.units.size();
+      codeIMesh(k, inputs_[k]);
+      if (k == 0 && keepIMesh_) {
+        iMeshUnits_.assign(out_.units.begin() + static_cast<std::ptrdiff_t>(mark),
+                           out_.units.end());
+        iMeshCoded_ = std::make_unique<IMeshEncoding>(out_.iMeshes.back());
+      }
+    }
     mesh = out_.iMeshes.back().decoded;
     where = name(k);  // its connectivity is the input frame's
   }
@@ -135,15 +136,12 @@ class GomCoder : public GomUnits {
     target_.resize(i.inputIndex.size());
     for (size_t j = 0; j < target_.size(); ++j)
       target_[j] = inputs_[k].positions[i.inputIndex[j]];
-    const std::vector<Vec3i>& previous = decoder_.reference();
-    PMeshEncoding p = params_.pmeshMode == PMeshMode::kD3dmc
-                          ? encodePMesh(decoder_.topology(), previous, target_, pmParams_,
-                                        params_.effectiveLambda())
-                          : encodeTemporalDpcm(previous, target_, pmParams_);
+    PMeshEncoding p = codePMesh(decoder_.reference(), target_);
     PMeshUnit pm;
     pm.pm_frame = static_cast<uint32_t>(first_ + k);
     pm.pm_cabac_payload = std::move(p.payload);
     out_.units.push_back({UnitType::kPMesh, serialise(pm)});
+    pMeshBits_[k] = 8.0 * static_cast<double>(out_.units.back().payload.size());
     payload_ = std::move(pm.pm_cabac_payload);
     pendingFrame_ = k;
     pending_ = std::move(p.reconstruction);
@@ -152,6 +150,122 @@ class GomCoder : public GomUnits {
 
  private:
   std::string name(size_t k) const { return frameName_(first_ + k); }
+
+  // The P mesh of `target` predicted from `previous` (both in the GOM's vertex order).
+  PMeshEncoding codePMesh(const std::vector<Vec3i>& previous, const std::vector<Vec3i>& target) {
+    return params_.pmeshMode == PMeshMode::kD3dmc
+               ? encodePMesh(decoder_.topology(), previous, target, pmParams_,
+                             params_.effectiveLambda())
+               : encodeTemporalDpcm(previous, target, pmParams_);
+  }
+
+  // Codes the GOM with the keyframes of `gh` into out_ (the GOM header, its units and frames),
+  // the frames made by the decoder's GOM loop. With `keepInputs` the quantised inputs are
+  // copied into the frames, else moved (the GOM is not coded again).
+  void codeFrames(const GomHeader& gh, bool continues, bool keepInputs) {
+    out_.units.push_back({UnitType::kGomHeader, serialise(gh)});
+    out_.keyframes = gh.keyframes.empty() ? inputs_.size() : gh.keyframes.size();
+    // A continuing GOM starts from the previous GOM's connectivity and last frame.
+    GomReference continued;
+    if (continues) {
+      out_.iMeshes.push_back(*continuation_->iMesh);
+      continued.mesh = {continuation_->last, continuation_->iMesh->decoded.triangles, {}};
+    }
+    pMeshBits_.assign(inputs_.size(), 0.0);
+    pendingFrame_ = SIZE_MAX;
+    decoder_.start(gh, params_.gridBits, "encoder's own GOM", continues ? &continued : nullptr);
+    for (size_t k = 0; k < inputs_.size(); ++k) {
+      const std::vector<Vec3i>& positions = decoder_.next(*this);
+      if (k == pendingFrame_ && positions != pending_)
+        throw std::logic_error("P-mesh reconstruction differs from the decoder's (frame " +
+                               std::to_string(first_ + k) + ")");
+      emit(positions,
+           keepInputs ? std::vector<Vec3i>(inputs_[k].positions) : std::move(inputs_[k].positions));
+    }
+  }
+
+  // KeyframeLambda: the GOM's keyframes chosen by rate and distortion (docs/options.md).
+  // 1. The GOM is coded with every frame a keyframe (A): the real rate and error of every
+  //    one-frame interval, and the decoded frames the longer intervals are predicted from.
+  // 2. selectKeyframesRd chooses the keyframes: an interval a .. b costs the squared error of
+  //    the frames a + 1 .. b against the quantised input (keyframe b's own quantisation, the
+  //    interpolated frames exactly) plus lambda times the bits of b's P mesh, which is coded
+  //    for the estimate from A's decoded frame a (the closed loop of the chosen keyframes
+  //    predicts from its own decoded keyframe a, which may differ a little).
+  // 3. When that is not every frame, the GOM is coded again with the chosen keyframes (B), and
+  //    B is kept only when its real J is smaller than A's: never worse than every frame.
+  // Every step is a function of the GOM alone: the same stream for any Threads.
+  void codeRdKeyframes(GomHeader gh, bool continues) {
+    const int n = static_cast<int>(inputs_.size());
+    const double lambda = params_.effectiveKeyframeLambda();
+    const GomGeometry base = out_;  // what checkAttributes said; no unit yet
+    gh.keyframes.resize(inputs_.size());
+    for (int k = 0; k < n; ++k)
+      gh.keyframes[k] = static_cast<uint16_t>(k);
+    keepIMesh_ = true;
+    codeFrames(gh, continues, true);
+    GomGeometry all = std::move(out_);
+    const std::vector<double> allBits = pMeshBits_;
+
+    // The quantised input in the GOM's vertex order (the order P meshes are coded in).
+    const std::vector<uint32_t>& index = all.iMeshes.back().inputIndex;
+    std::vector<std::vector<Vec3i>> target(inputs_.size(), std::vector<Vec3i>(index.size()));
+    for (int k = 0; k < n; ++k)
+      for (size_t j = 0; j < index.size(); ++j)
+        target[k][j] = all.frames[k].input[index[j]];
+    const auto squared = [](const std::vector<Vec3i>& p, const std::vector<Vec3i>& q) {
+      double sum = 0;
+      for (size_t j = 0; j < p.size(); ++j)
+        for (int c = 0; c < 3; ++c) {
+          const double e = double(p[j][c]) - double(q[j][c]);
+          sum += e * e;
+        }
+      return sum;
+    };
+    std::vector<Vec3i> between;
+    const auto interpolationError = [&](const std::vector<Vec3i>& ka, const std::vector<Vec3i>& kb,
+                                        int a, int b) {
+      double sum = 0;
+      for (int f = a + 1; f < b; ++f) {
+        interpolateFrame(ka, kb, a, b, f, between);
+        sum += squared(between, target[f]);
+      }
+      return sum;
+    };
+    const auto jOf = [&](const GomGeometry& g, const std::vector<double>& bits) {
+      double j = 0;
+      for (int k = 0; k < n; ++k)
+        j += squared(g.frames[k].positions, target[k]) + lambda * bits[k];
+      return j;
+    };
+
+    const auto bound = [&](int a, int b) {
+      return interpolationError(all.frames[a].positions, target[b], a, b);
+    };
+    const auto cost = [&](int a, int b) {
+      const std::vector<Vec3i>& ka = all.frames[a].positions;
+      if (b == a + 1) return squared(all.frames[b].positions, target[b]) + lambda * allBits[b];
+      const PMeshEncoding p = codePMesh(ka, target[b]);
+      PMeshUnit pm;
+      pm.pm_frame = static_cast<uint32_t>(first_ + b);
+      pm.pm_cabac_payload = p.payload;
+      const double bits = 8.0 * static_cast<double>(serialise(std::move(pm)).size());
+      return squared(p.reconstruction, target[b]) + interpolationError(ka, p.reconstruction, a, b) +
+             lambda * bits;
+    };
+    const std::vector<int> keys = selectKeyframesRd(n, kKeyframeRdMaxGap, bound, cost);
+    if (static_cast<int>(keys.size()) == n) {
+      out_ = std::move(all);
+      return;
+    }
+    out_ = base;
+    gh.keyframes.assign(keys.begin(), keys.end());
+    codeFrames(gh, continues, false);  // `all` holds the inputs too
+    if (jOf(out_, pMeshBits_) < jOf(all, allBits))
+      out_.warnings = std::move(all.warnings);  // said once, when the I mesh was coded
+    else
+      out_ = std::move(all);
+  }
 
   // Triangles with a repeated vertex have no area and no orientation; Draco's Edgebreaker cannot
   // code them (draco_encoder drops them). They are kept, in every mode: the VERTEX_ORDER unit
@@ -318,6 +432,11 @@ class GomCoder : public GomUnits {
   std::vector<uint8_t> payload_;    // the last P mesh's payload, while the decoder reads it
   size_t pendingFrame_ = SIZE_MAX;  // the last P mesh's frame and the encoder's reconstruction
   std::vector<Vec3i> pending_;
+  std::vector<double> pMeshBits_;  // per GOM frame: its P-mesh unit's bits (0: none)
+  // codeRdKeyframes codes a GOM twice: the I mesh's units and encoding from the first time.
+  bool keepIMesh_ = false;
+  std::vector<GomGeometry::Unit> iMeshUnits_;
+  std::unique_ptr<IMeshEncoding> iMeshCoded_;
   GomGeometry out_;
 };
 

@@ -35,6 +35,7 @@ struct GomGeometry {
   std::vector<Frame> frames;           // the GOM's frames in order
   std::vector<std::string> warnings;   // for stderr, in the order a sequential run meets them
   std::string normals;                 // how the GOM's normals are carried, for the summary
+  size_t keyframes = 0;                // frames coded (I or P mesh), not interpolated
 };
 
 // What a GOM of P meshes leaves for the next GOM, which may continue its connectivity instead

@@ -92,4 +92,33 @@ std::vector<int> selectKeyframes(const std::vector<std::vector<Vec3i>>& frames, 
   return all;
 }
 
+std::vector<int> selectKeyframesRd(int n, int maxGap, const std::function<double(int, int)>& bound,
+                                   const std::function<double(int, int)>& cost) {
+  std::vector<int> keys(std::max(n, 0));
+  std::iota(keys.begin(), keys.end(), 0);
+  if (n <= 2) return keys;
+  // best[b]: least cost of frames 1 .. b with b a keyframe; from[b]: the keyframe before b.
+  std::vector<double> best(n, 0);
+  std::vector<int> from(n, -1);
+  for (int b = 1; b < n; ++b) {
+    best[b] = best[b - 1] + cost(b - 1, b);
+    from[b] = b - 1;
+    for (int a = b - 2; a >= 0 && b - a <= maxGap; --a) {
+      const double lower = bound(a, b);
+      if (lower >= best[b]) break;
+      if (best[a] + lower >= best[b]) continue;
+      const double c = best[a] + cost(a, b);
+      if (c < best[b]) {
+        best[b] = c;
+        from[b] = a;
+      }
+    }
+  }
+  keys.clear();
+  for (int b = n - 1; b >= 0; b = from[b])
+    keys.push_back(b);
+  std::reverse(keys.begin(), keys.end());
+  return keys;
+}
+
 }  // namespace tdvo

@@ -3,6 +3,7 @@
 // random-access point.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "common/core/mesh.h"
@@ -18,5 +19,20 @@ namespace tdvo {
 // Neither: every frame is a keyframe. Returns the keyframes' offsets in the GOM, ascending.
 std::vector<int> selectKeyframes(const std::vector<std::vector<Vec3i>>& frames, int keyframeCount,
                                  double maxError);
+
+// Rate-distortion choice (KeyframeLambda): the keyframes 0 = k0 < k1 < ... = n - 1 of a GOM of
+// `n` frames, no two consecutive keyframes more than `maxGap` frames apart, that minimise the
+// sum of cost(k_i, k_i+1) over the intervals (dynamic programming over the last keyframe).
+// cost(a, b) is the interval's J = D + lambda * R: the rate of keyframe b's P mesh and the
+// squared error of frames a + 1 .. b. It is asked for every (b - 1, b); for a longer interval
+// only when bound(a, b) (a cheap estimate of cost(a, b) from below, e.g. the interpolation
+// error alone) leaves it a chance, i.e. when best(a) + bound(a, b) < the best cost of 0 .. b
+// found so far; intervals ending at b are tried from the shortest, and longer ones no more once
+// bound(a, b) alone reaches that cost (interpolation error grows with the gap). Returns the
+// keyframes ascending; every frame when n <= 2. Deterministic: the intervals are tried in a
+// fixed order and a longer one replaces the best only when strictly cheaper.
+constexpr int kKeyframeRdMaxGap = 16;  // the longest interval the RD choice considers
+std::vector<int> selectKeyframesRd(int n, int maxGap, const std::function<double(int, int)>& bound,
+                                   const std::function<double(int, int)>& cost);
 
 }  // namespace tdvo

@@ -185,6 +185,16 @@ int main(int argc, char** argv) {
         static_cast<unsigned long long>(coded.pMeshBytes),
         static_cast<unsigned long long>(coded.textureBytes));
     const double geometryBits = 8.0 * (coded.stream.size() - coded.textureBytes);
+    if (params.pmeshMode != PMeshMode::kIntra) {
+      size_t keyframes = 0;
+      std::string perGom;
+      for (size_t k : coded.gomKeyframes) {
+        keyframes += k;
+        perGom += (perGom.empty() ? "" : " ") + std::to_string(k);
+      }
+      std::printf("keyframes           : %zu of %zu frames (per GOM: %s)\n", keyframes,
+                  source.count, perGom.c_str());
+    }
     std::printf("bits/vertex/frame   : %.4f (geometry and headers only)\n",
                 geometryBits / static_cast<double>(coded.vertexFrames));
     if (coded.textureBytes > 0)

@@ -44,6 +44,7 @@ class GomWriter {
     }
     for (const GomGeometry::Unit& unit : gom.units)
       units_.write(unit.type, unit.payload);
+    out_.gomKeyframes.push_back(gom.keyframes);
     for (size_t k = 0; k < gom.frames.size(); ++k)
       emit(first + k, gom.frames[k], gom.iMeshes[gom.frames[k].iMesh]);
     // Textures (if any) are coded here, GOM after GOM, the GOM's cameras in parallel

@@ -22,9 +22,10 @@ struct EncodedSequence {
   // with the input.
   std::vector<std::vector<uint32_t>> frameInputIndex;
   uint64_t headerBytes = 0, iMeshBytes = 0, pMeshBytes = 0, textureBytes = 0;
-  uint64_t orderBytes = 0;      // VERTEX_ORDER units
-  uint64_t attributeBytes = 0;  // ATTRIBUTES units
-  uint64_t vertexFrames = 0;    // sum over frames of the decoded vertex count
+  uint64_t orderBytes = 0;           // VERTEX_ORDER units
+  uint64_t attributeBytes = 0;       // ATTRIBUTES units
+  uint64_t vertexFrames = 0;         // sum over frames of the decoded vertex count
+  std::vector<size_t> gomKeyframes;  // per GOM: its frames coded as I or P meshes
   // Reconstruction error against the input quantised to the grid, in grid units, over all
   // vertex coordinates of all frames (0 and 0 when coding is lossless on the grid).
   double sumSquaredError = 0;

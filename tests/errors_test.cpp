@@ -1989,6 +1989,14 @@ CATALOGUE_TEST(C43) {
   expectCfgRow("C43", "PMeshMode : d3dmc\nKeyframeCount : 1\n");
 }
 
+CATALOGUE_TEST(C44) {
+  expectCfgRow("C44", "PMeshMode : d3dmc\nKeyframeCount : 3\nKeyframeLambda : -1\n");
+}
+
+CATALOGUE_TEST(C45) {
+  expectCfgRow("C45", "PMeshMode : d3dmc\nKeyframeLambda : -0.5\n");
+}
+
 // GOMListFile rows: the list is goms.txt beside x.cfg (one coded frame unless the cfg says so).
 CATALOGUE_TEST(C21) {
   expectCfgRow("C21", "GOMListFile : missing.txt\n");

@@ -91,6 +91,97 @@ TEST(SelectKeyframes, MaxErrorBoundHolds) {
   EXPECT_EQ(selectKeyframes(frames, 1, 0).size(), 2u);   // at least first and last
 }
 
+// The DP of the RD choice against every keyframe set, on a made-up interval cost.
+TEST(SelectKeyframesRd, OptimalAgainstBruteForce) {
+  const int n = 10, maxGap = 4;
+  const auto cost = [](int a, int b) { return 3.0 + (b - a) * (b - a) * (1 + (a * 7 + b) % 3); };
+  const std::vector<int> keys = selectKeyframesRd(
+      n, maxGap, [](int, int) { return 0.0; }, cost);
+  double best = 1e300;
+  for (int mask = 0; mask < (1 << (n - 2)); ++mask) {
+    std::vector<int> subset = {0};
+    for (int f = 1; f < n - 1; ++f)
+      if (mask >> (f - 1) & 1) subset.push_back(f);
+    subset.push_back(n - 1);
+    double total = 0;
+    for (size_t i = 0; i + 1 < subset.size(); ++i)
+      total += subset[i + 1] - subset[i] > maxGap ? 1e300 : cost(subset[i], subset[i + 1]);
+    best = std::min(best, total);
+  }
+  double total = 0;
+  for (size_t i = 0; i + 1 < keys.size(); ++i) {
+    EXPECT_LE(keys[i + 1] - keys[i], maxGap);
+    total += cost(keys[i], keys[i + 1]);
+  }
+  EXPECT_DOUBLE_EQ(total, best);
+  EXPECT_EQ(keys.front(), 0);
+  EXPECT_EQ(keys.back(), n - 1);
+}
+
+// KeyframeLambda on whole GOMs: J = D + lambda * R of the coded stream (D: squared error against
+// the quantised input, R: P-mesh bits).
+struct RdCoding {
+  EncodedSequence coded;
+  double j = 0;
+};
+
+RdCoding codeWithKeyframeLambda(const std::vector<Mesh>& frames, double keyframeLambda,
+                                double lambdaForJ, int threads = 1, int quantStep = 4) {
+  EncoderParams params;
+  params.gomSize = 12;  // GOMs of 12, 12 and 6 frames
+  params.motionQuantStep = quantStep;
+  params.keyframeLambda = keyframeLambda;
+  params.threads = threads;
+  const Grid grid = gridForSequence(frames, params.gridBits);
+  RdCoding out;
+  out.coded = encodeSequence(params, grid, frames, {}, [](int, const IntMesh&) {});
+  out.j = out.coded.sumSquaredError + lambdaForJ * 8.0 * double(out.coded.pMeshBytes);
+  return out;
+}
+
+size_t keyframeCount(const EncodedSequence& coded) {
+  size_t k = 0;
+  for (size_t g : coded.gomKeyframes)
+    k += g;
+  return k;
+}
+
+TEST(RdKeyframes, NeverWorseInJThanEveryFrame) {
+  const std::vector<Mesh> frames = deformingBlob(2, 30);
+  for (double lambda : {0.5, 4.0, 40.0, 400.0}) {
+    const RdCoding all = codeWithKeyframeLambda(frames, 0, lambda);
+    const RdCoding rd = codeWithKeyframeLambda(frames, lambda, lambda);
+    EXPECT_EQ(keyframeCount(all.coded), frames.size());
+    EXPECT_LE(rd.j, all.j) << "lambda " << lambda;
+  }
+}
+
+TEST(RdKeyframes, TinyLambdaKeepsEveryFrameHugeLambdaOnlyFirstAndLast) {
+  const std::vector<Mesh> frames = deformingBlob(2, 30);
+  // Lossless P meshes (MotionQuantStep 1): every frame exact, which interpolation is not here.
+  EXPECT_EQ(keyframeCount(codeWithKeyframeLambda(frames, 1e-9, 0, 1, 1).coded), frames.size());
+  const RdCoding huge = codeWithKeyframeLambda(frames, 1e9, 0);
+  EXPECT_EQ(huge.coded.gomKeyframes, (std::vector<size_t>{2, 2, 2}));
+}
+
+TEST(RdKeyframes, AutomaticLambdaFollowsMotionQuantStep) {
+  EncoderParams params;
+  EXPECT_EQ(params.effectiveKeyframeLambda(), 0);  // off by default
+  params.keyframeLambda = -1;
+  params.motionQuantStep = 8;
+  EXPECT_DOUBLE_EQ(params.effectiveKeyframeLambda(), EncoderParams::kAutoKeyframeLambdaFactor * 64);
+  params.keyframeLambda = 3;
+  EXPECT_EQ(params.effectiveKeyframeLambda(), 3);
+}
+
+TEST(RdKeyframes, SameStreamForAnyThreads) {
+  const std::vector<Mesh> frames = deformingBlob(2, 30);
+  const RdCoding one = codeWithKeyframeLambda(frames, 40, 0, 1);
+  const RdCoding three = codeWithKeyframeLambda(frames, 40, 0, 3);
+  EXPECT_EQ(one.coded.stream, three.coded.stream);
+  EXPECT_LT(keyframeCount(one.coded), frames.size());  // a subset pays on this motion
+}
+
 class KeyframeCoding : public ::testing::TestWithParam<PMeshMode> {};
 
 TEST_P(KeyframeCoding, EncoderAndDecoderAgreeOnEveryFrame) {
