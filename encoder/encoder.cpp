@@ -11,6 +11,7 @@
 #include "common/core/md5.h"
 #include "common/media/dataset.h"
 #include "encoder/input_frames.h"
+#include "encoder/quality.h"
 #include "encoder/texture_encoder.h"
 
 namespace tdvo {
@@ -23,7 +24,8 @@ struct Encoder::State {
   OptionTable table{"3dvo-enc", "3dvo-enc -c cfg/FILE.cfg [-c ...] [--Key=value ...]"};
   std::optional<EncoderParams> resolved;
   std::optional<Dataset> dataset;
-  Grid grid;  // the last encode()'s
+  Grid grid;                  // the last encode()'s
+  std::string qualityReport;  // the last encode()'s (resolveQuality)
 
   State() { params.registerOptions(table); }
 };
@@ -50,6 +52,10 @@ std::string Encoder::effectiveConfig() const {
 
 const Grid& Encoder::grid() const {
   return s_->grid;
+}
+
+const std::string& Encoder::qualityReport() const {
+  return s_->qualityReport;
 }
 
 bool Encoder::wasSet(const std::string& key) const {
@@ -166,10 +172,16 @@ EncodedSequence Encoder::encode(const FrameSource& source, const FrameCallback& 
 
   std::optional<TextureBoxFinder> boxes;
   if (input) boxes.emplace(p, *input, source.count);
-  const Grid grid = s_->grid =
-      gridForSequence(source, p.gridBits, p.threadCount(), onFramesRead,
-                      boxes ? [&](size_t, const Mesh& mesh) { boxes->add(mesh); }
-                            : std::function<void(size_t, const Mesh&)>());
+  const SequenceBounds bounds =
+      boundsOfSequence(source, p.threadCount(), onFramesRead,
+                       boxes ? [&](size_t, const Mesh& mesh) { boxes->add(mesh); }
+                             : std::function<void(size_t, const Mesh&)>());
+  // Quality's choices, with the keys the user set kept (encoder/quality.h).
+  s_->qualityReport.clear();
+  p = resolveQuality(
+      p, bounds, source, [this](const std::string& key) { return s_->table.wasSet(key); },
+      &s_->qualityReport);
+  const Grid grid = s_->grid = gridFor(bounds, p.gridBits, p.gridFit);
   std::unique_ptr<TextureEncoder> textures;
   if (boxes) textures = std::make_unique<TextureEncoder>(p, *input, boxes->boxes());
 

@@ -53,6 +53,8 @@ class Encoder {
   // The grid of the last encode() (normally its frames' bounding box at GridBits), valid from
   // that encode()'s first onFrame call on: grid().dequantise(recon) gives float positions.
   const Grid& grid() const;
+  // What Quality chose in the last encode() (one line; empty when Quality is off).
+  const std::string& qualityReport() const;
   // The option table (3dvo-enc parses its command line with it; --help lists it).
   OptionTable& options();
 

@@ -25,9 +25,21 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.add("FrameRate", frameRate, 0.001, 1000,
         "frames per second (rate figures, stream header); not set: the Dataset's frames.rate, "
         "else 25");
+  t.section("Quality");
+  t.add("Quality", quality, -1, 100,
+        "one knob for the geometry's rate and precision, 0 (coarsest) .. 100 (finest): a "
+        "target step of 1/2^(5 + Quality/10) of the object's size, reached by the grid and "
+        "quantiser (GridFit object, GridBits, MotionQuantStep) that code the first frames at "
+        "the least rate + distortion; keys set explicitly are kept; -1 = off (every key at its "
+        "own value, as before Quality existed)");
   t.section("Geometry");
   t.add("GridBits", gridBits, 8, 20,
-        "bits per coordinate of the integer grid spanning the sequence's bounding box");
+        "precision of the integer grid: 2^GridBits - 1 steps span the sequence's bounding box "
+        "(GridFit sequence) or the object's own size (GridFit object)");
+  t.addEnum("GridFit", gridFit, {{"sequence", GridFit::kSequence}, {"object", GridFit::kObject}},
+            "what GridBits spans: sequence = the bounding box of all frames; object = the "
+            "largest extent of any one frame, the grid getting the further bits (up to 20) its "
+            "path across the scene needs, so a moving object keeps its precision");
   t.add("GOMSize", gomSize, 1, static_cast<int>(kMaxGomFrames),
         "frames per group of meshes (GOM); a GOM starts with an I mesh unless it continues "
         "the previous GOM (RandomAccessPeriod)");

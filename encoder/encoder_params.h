@@ -7,6 +7,7 @@
 #include "bitstream/syntax.h"
 #include "common/core/config.h"
 #include "common/core/gom_list.h"
+#include "common/core/grid.h"
 #include "encoder/texture_padding.h"
 
 namespace tdvo {
@@ -27,8 +28,11 @@ struct EncoderParams {
   int firstFrame = 0;
   int frameCount = 0;  // 0: every frame from firstFrame until a file is missing (input_frames.h)
   double frameRate = 25.0;
+  // Quality (encoder/quality.h): < 0 = off, every key at its own value
+  int quality = 50;
   // Geometry
   int gridBits = 12;
+  GridFit gridFit = GridFit::kSequence;  // what spans 2^gridBits - 1 grid steps
   int gomSize = 16;
   std::string gomListFile;     // when set, the GOMs it lists replace GOMSize (see goms())
   int randomAccessPeriod = 1;  // a random access point every this many GOMs (0: first only)

@@ -175,6 +175,10 @@ int main(int argc, char** argv) {
     std::printf("# summary\n");
     std::printf("frames              : %zu\n", source.count);
     std::printf("stream              : %s\n", params.bitstreamFile.c_str());
+    if (!encoder.qualityReport().empty())
+      std::printf("quality             : %s\n", encoder.qualityReport().c_str());
+    std::printf("grid                : %d bits, step %.9g\n", encoder.grid().bits,
+                encoder.grid().step);
     std::printf(
         "bytes               : %zu (headers %llu, I meshes %llu, vertex orders %llu, "
         "attributes %llu, P meshes %llu, textures %llu)\n",

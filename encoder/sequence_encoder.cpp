@@ -108,17 +108,16 @@ FrameSource sourceOf(const std::vector<Mesh>& frames, const std::vector<std::str
 
 }  // namespace
 
-Grid gridForSequence(const std::vector<Mesh>& frames, int bits) {
-  Vec3d lo, hi;
-  boundingBox(frames, lo, hi);
-  return Grid::fromBounds(lo, hi, bits);
+Grid gridForSequence(const std::vector<Mesh>& frames, int bits, GridFit fit) {
+  return gridForSequence(sourceOf(frames, {}), bits, fit);
 }
 
-Grid gridForSequence(const FrameSource& source, int bits, int threads,
-                     const std::function<void(size_t frame)>& onFrameRead,
-                     const std::function<void(size_t frame, const Mesh& mesh)>& inspect) {
-  // boundingBox()'s fold, frame after frame in order, so the result is the same bit for bit.
-  Vec3d lo{0, 0, 0}, hi{0, 0, 0};
+SequenceBounds boundsOfSequence(
+    const FrameSource& source, int threads, const std::function<void(size_t frame)>& onFrameRead,
+    const std::function<void(size_t frame, const Mesh& mesh)>& inspect) {
+  // One fold, frame after frame in order, so the result is the same bit for bit for any
+  // `threads`.
+  SequenceBounds b;
   bool any = false;
   orderedParallelFor<Mesh>(
       source.count, threads, 2 * static_cast<size_t>(threads),
@@ -128,23 +127,47 @@ Grid gridForSequence(const FrameSource& source, int bits, int threads,
         return mesh;
       },
       [&](size_t k, Mesh& mesh) {
-        for (const Vec3d& p : mesh.positions) {
+        Vec3d frameLo{0, 0, 0}, frameHi{0, 0, 0};
+        for (size_t i = 0; i < mesh.positions.size(); ++i) {
+          const Vec3d& p = mesh.positions[i];
           for (int a = 0; a < 3; ++a) {
-            lo[a] = any ? std::min(lo[a], p[a]) : p[a];
-            hi[a] = any ? std::max(hi[a], p[a]) : p[a];
+            b.lo[a] = any ? std::min(b.lo[a], p[a]) : p[a];
+            b.hi[a] = any ? std::max(b.hi[a], p[a]) : p[a];
+            frameLo[a] = i > 0 ? std::min(frameLo[a], p[a]) : p[a];
+            frameHi[a] = i > 0 ? std::max(frameHi[a], p[a]) : p[a];
           }
           any = true;
         }
+        for (int a = 0; a < 3; ++a)
+          b.objectExtent = std::max(b.objectExtent, frameHi[a] - frameLo[a]);
         if (onFrameRead) onFrameRead(k);
       });
   check(any, "no vertex positions to bound");
+  b.frames = source.count;
+  auto name = [&source](size_t k) {
+    return source.name ? source.name(k) : "frame " + std::to_string(k);
+  };
+  b.firstName = name(0);
+  b.lastName = name(source.count - 1);
+  return b;
+}
+
+Grid gridFor(const SequenceBounds& bounds, int bits, GridFit fit) {
   try {
-    return Grid::fromBounds(lo, hi, bits);
+    return fit == GridFit::kObject
+               ? Grid::fitObject(bounds.lo, bounds.hi, bounds.objectExtent, bits)
+               : Grid::fromBounds(bounds.lo, bounds.hi, bits);
   } catch (const Error& e) {
     // Bad input: say which frames it is about.
-    throw Error(source.name(0) + (source.count > 1 ? " .. " + source.name(source.count - 1) : "") +
-                ": " + e.what());
+    throw Error(bounds.firstName + (bounds.frames > 1 ? " .. " + bounds.lastName : "") + ": " +
+                e.what());
   }
+}
+
+Grid gridForSequence(const FrameSource& source, int bits, GridFit fit, int threads,
+                     const std::function<void(size_t frame)>& onFrameRead,
+                     const std::function<void(size_t frame, const Mesh& mesh)>& inspect) {
+  return gridFor(boundsOfSequence(source, threads, onFrameRead, inspect), bits, fit);
 }
 
 EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
@@ -162,9 +185,11 @@ EncodedSequence encodeSequence(const EncoderParams& inParams, const Grid& grid,
                                bool keepInputIndex) {
   check(source.count > 0, "no frames to encode");
   check(source.count <= kMaxFrames, "too many frames");
-  check(grid.bits == inParams.gridBits, "grid and GridBits disagree");
-  // The stream has ATTRIBUTES units when the first frame has attributes the cfg keeps.
+  // The stream's coordinates have the grid's bits: GridBits, or more with GridFit object.
+  check(grid.bits >= inParams.gridBits, "the grid has fewer bits than GridBits");
   EncoderParams params = inParams;
+  params.gridBits = grid.bits;
+  // The stream has ATTRIBUTES units when the first frame has attributes the cfg keeps.
   {
     const MeshAttributes first = source.read(0).attributes;
     params.attributesPresent = (params.textureCoordinates && first.hasUvs()) ||

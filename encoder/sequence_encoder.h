@@ -45,17 +45,36 @@ struct FrameSource {
   std::function<std::string(size_t frame)> name;
 };
 
-// The grid for a sequence: its bounding box over all frames at `bits`.
-Grid gridForSequence(const std::vector<Mesh>& frames, int bits);
+// The grid for a sequence at `bits` (GridBits): its bounding box over all frames spans the grid
+// (GridFit sequence), or the object's size, the largest extent of any one frame, spans
+// 2^bits - 1 steps and the grid has the further bits the sequence's box needs (GridFit object;
+// Grid::fitObject).
+Grid gridForSequence(const std::vector<Mesh>& frames, int bits, GridFit fit = GridFit::kSequence);
 // The same grid from frames read one by one (`threads` at a time) and released as soon as
 // their bounds are taken; `onFrameRead(k)` (optional) is called in frame order on the calling
 // thread. `inspect(k, mesh)` (optional) sees every frame on the thread that read it, several
 // at once and in no particular order, before it is released (e.g. TextureBoxFinder::add, so
 // that one pass over the input serves both). Errors of read() and inspect() come out in
 // frame order, as if run sequentially.
-Grid gridForSequence(const FrameSource& source, int bits, int threads = 1,
+Grid gridForSequence(const FrameSource& source, int bits, GridFit fit, int threads = 1,
                      const std::function<void(size_t frame)>& onFrameRead = {},
                      const std::function<void(size_t frame, const Mesh& mesh)>& inspect = {});
+
+// What the grid is made from: the bounding box of all frames, the object's size (the largest
+// extent of any one frame), and the names of the first and last frame for messages.
+struct SequenceBounds {
+  Vec3d lo{0, 0, 0}, hi{0, 0, 0};
+  double objectExtent = 0;
+  size_t frames = 0;
+  std::string firstName, lastName;
+};
+// The bounds of frames read as gridForSequence() below reads them.
+SequenceBounds boundsOfSequence(
+    const FrameSource& source, int threads = 1,
+    const std::function<void(size_t frame)>& onFrameRead = {},
+    const std::function<void(size_t frame, const Mesh& mesh)>& inspect = {});
+// The grid of `bits` and `fit` for those bounds (an Error names the frames).
+Grid gridFor(const SequenceBounds& bounds, int bits, GridFit fit);
 
 // Encodes `frames` on `grid` (normally gridForSequence(frames, params.gridBits); already read;
 // frame k of the stream is frames[k]; `frameNames`, if not empty, names each frame's source in

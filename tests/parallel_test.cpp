@@ -106,7 +106,7 @@ Encoded encodeWith(const std::vector<Mesh>& frames, EncoderParams params, int th
     FrameSource source;
     source.count = frames.size();
     source.read = [&frames](size_t k) { return frames[k]; };
-    const Grid grid = gridForSequence(source, params.gridBits, threads);
+    const Grid grid = gridForSequence(source, params.gridBits, params.gridFit, threads);
     EXPECT_EQ(grid.origin, gridForSequence(frames, params.gridBits).origin);
     EXPECT_EQ(grid.step, gridForSequence(frames, params.gridBits).step);
     coded = encodeSequence(params, grid, source, onFrame);
@@ -183,7 +183,7 @@ TEST(ParallelEncoding, ErrorsComeInFrameOrder) {
     }
     EXPECT_EQ(handedOut, 6);
     try {
-      gridForSequence(source, p.gridBits, threads);
+      gridForSequence(source, p.gridBits, p.gridFit, threads);
       ADD_FAILURE() << "no error";
     } catch (const Error& e) {
       EXPECT_STREQ(e.what(), "frame 10 unreadable");

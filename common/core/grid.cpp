@@ -31,6 +31,25 @@ Grid Grid::fromBounds(const Vec3d& lo, const Vec3d& hi, int bits) {
   return grid;
 }
 
+Grid Grid::fitObject(const Vec3d& lo, const Vec3d& hi, double objectExtent, int precisionBits) {
+  Grid grid = fromBounds(lo, hi, precisionBits);
+  double extent = 0;
+  for (int a = 0; a < 3; ++a)
+    extent = std::max(extent, hi[a] - lo[a]);
+  if (!(objectExtent > 0) || objectExtent >= extent) return grid;  // the object spans its path
+  const double step = objectExtent / grid.maxCoordinate();
+  if (!(step >= std::numeric_limits<double>::min())) return grid;
+  for (int bits = precisionBits; bits <= kMaxBits; ++bits) {
+    // The bounds' largest extent must round to a coordinate within the grid.
+    if (std::floor(extent / step + 0.5) <= double((int64_t{1} << bits) - 1)) {
+      grid.bits = bits;
+      grid.step = step;
+      return grid;
+    }
+  }
+  return fromBounds(lo, hi, kMaxBits);
+}
+
 Vec3i Grid::quantise(const Vec3d& p) const {
   Vec3i q;
   const double maxQ = maxCoordinate();

@@ -1,0 +1,182 @@
+#include "encoder/quality.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <vector>
+
+#include "common/core/error.h"
+#include "common/core/warnings.h"
+
+namespace tdvo {
+
+namespace {
+
+struct Candidate {
+  int gridBits = 0;
+  int step = 1;
+  double j = std::numeric_limits<double>::infinity();
+  double bits = 0, distortion = 0;  // extrapolated to the sequence
+};
+
+// Random access points of the sequence's GOMs (each carries an I mesh).
+size_t randomAccessGoms(const EncoderParams& p, size_t frames) {
+  const size_t goms = p.goms(frames).size();
+  if (p.pmeshMode == PMeshMode::kIntra) return frames;  // every frame an I mesh
+  if (p.randomAccessPeriod == 0) return 1;
+  const size_t period = static_cast<size_t>(p.randomAccessPeriod);
+  return (goms + period - 1) / period;
+}
+
+// Codes the first `count` frames as one GOM with candidate `c` and fills its extrapolated rate,
+// distortion and J.
+void measure(Candidate& c, const EncoderParams& params, const SequenceBounds& bounds,
+             const std::vector<Mesh>& frames, const std::vector<std::string>& names,
+             size_t sequenceFrames, double lambda) {
+  EncoderParams p = params;
+  p.gridBits = c.gridBits;
+  p.motionQuantStep = c.step;
+  p.frameCount = static_cast<int>(frames.size());
+  p.gomSize = static_cast<int>(frames.size());
+  p.gomListFile.clear();
+  p.randomAccessPeriod = 1;
+  p.threads = 1;
+  const Grid grid = gridFor(bounds, c.gridBits, p.gridFit);
+  std::vector<double> frameError(frames.size(), 0.0);
+  std::vector<IntMesh> recon;
+  const EncodedSequence coded = encodeSequence(
+      p, grid, frames, names, [&](int, const IntMesh& mesh) { recon.push_back(mesh); });
+  for (size_t k = 0; k < frames.size(); ++k) {
+    const std::vector<uint32_t>& input = coded.frameInputIndex[k];
+    for (size_t v = 0; v < recon[k].positions.size(); ++v) {
+      const Vec3d decoded = grid.dequantise(recon[k].positions[v]);
+      const Vec3d& original = frames[k].positions[input[v]];
+      for (int a = 0; a < 3; ++a)
+        frameError[k] += (decoded[a] - original[a]) * (decoded[a] - original[a]);
+    }
+  }
+  // Frame 0 stands for the I meshes (with their vertex order and attributes), frames 1 .. n-1
+  // for the P meshes; the sequence has one I mesh per random access point.
+  const double intraBits = 8.0 * (coded.iMeshBytes + coded.orderBytes + coded.attributeBytes);
+  const double n = static_cast<double>(frames.size());
+  const double intraFrames =
+      static_cast<double>(std::min(randomAccessGoms(params, sequenceFrames), sequenceFrames));
+  const double interFrames = static_cast<double>(sequenceFrames) - intraFrames;
+  c.bits = intraFrames * intraBits / (params.pmeshMode == PMeshMode::kIntra ? n : 1.0);
+  c.distortion = intraFrames * frameError[0];
+  if (frames.size() > 1 && interFrames > 0) {
+    double interError = 0;
+    for (size_t k = 1; k < frames.size(); ++k)
+      interError += frameError[k];
+    c.bits += interFrames * 8.0 * coded.pMeshBytes / (n - 1);
+    c.distortion += interFrames * interError / (n - 1);
+  }
+  c.j = c.distortion + lambda * c.bits;
+}
+
+// Silences warnings for its lifetime: the trial codes frames the real encode codes (and warns
+// about) again.
+class QuietWarnings {
+ public:
+  QuietWarnings() : previous_(setWarningHandler([](const std::string&) {})) {}
+  ~QuietWarnings() { setWarningHandler(previous_); }
+  QuietWarnings(const QuietWarnings&) = delete;
+  QuietWarnings& operator=(const QuietWarnings&) = delete;
+
+ private:
+  WarningHandler previous_;
+};
+
+}  // namespace
+
+EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& bounds,
+                             const FrameSource& source,
+                             const std::function<bool(const std::string& key)>& isSet,
+                             std::string* report) {
+  if (params.quality < 0) return params;
+  if (isSet("GridBits") || isSet("MotionQuantStep")) {
+    // Coding by hand: the precision keys as given, and nothing else derived.
+    if (report)
+      *report = "Quality " + std::to_string(params.quality) +
+                " not applied: GridBits or MotionQuantStep is set, so every key is as given";
+    return params;
+  }
+  EncoderParams p = params;
+  if (!isSet("GridFit")) p.gridFit = GridFit::kObject;
+  const double precision = kQualityBitsAtZero + kQualityBitsPerStep * p.quality;
+  // The size 2^GridBits - 1 steps span, as gridFor() will use it.
+  double extent = 0;
+  for (int a = 0; a < 3; ++a)
+    extent = std::max(extent, bounds.hi[a] - bounds.lo[a]);
+  const double size =
+      p.gridFit == GridFit::kObject && bounds.objectExtent > 0 ? bounds.objectExtent : extent;
+  const double target = size / std::exp2(precision);  // Δ, world units
+  const bool intra = p.pmeshMode == PMeshMode::kIntra;
+
+  std::vector<Candidate> candidates;
+  auto add = [&](int bits) {
+    bits = std::clamp(bits, Grid::kMinBits, Grid::kMaxBits);
+    for (const Candidate& c : candidates)
+      if (c.gridBits == bits) return;
+    const Grid grid = gridFor(bounds, bits, p.gridFit);
+    const double q = target > 0 ? std::round(target / grid.step) : 1.0;
+    candidates.push_back(
+        {bits, intra ? 1 : static_cast<int>(std::clamp(q, 1.0, double(kMaxMotionQuantStep)))});
+  };
+  // At least 8 bits (the grid's minimum): below that the candidates differ in the quantiser.
+  const int base = std::max(static_cast<int>(std::lround(precision)), Grid::kMinBits);
+  if (intra) {
+    add(base);  // no quantiser to trade against: the grid is the precision
+  } else {
+    for (int extra = 0; extra <= 3; ++extra)
+      add(base + extra);
+  }
+
+  std::string measured;
+  size_t best = 0;
+  if (candidates.size() > 1) {
+    // The trial: the first frames of the first GOM.
+    const size_t firstGom = static_cast<size_t>(p.goms(source.count).front().second);
+    const size_t count = std::min<size_t>(kQualityTrialFrames, firstGom);
+    // Named as the encode names them, so that an error the trial meets (it meets the real
+    // encode's first errors first) reads the same.
+    std::vector<Mesh> frames;
+    std::vector<std::string> names;
+    for (size_t k = 0; k < count; ++k) {
+      frames.push_back(source.read(k));
+      names.push_back(source.name ? source.name(k) : "frame " + std::to_string(k));
+    }
+    const double lambda = std::log(2.0) / 6.0 * target * target;
+    QuietWarnings quiet;
+    for (size_t i = 0; i < candidates.size(); ++i) {
+      measure(candidates[i], p, bounds, frames, names, source.count, lambda);
+      if (candidates[i].j < candidates[best].j) best = i;
+      char text[160];
+      std::snprintf(text, sizeof text, "%sGridBits %d MotionQuantStep %d: %.4g kbit, J %.6g",
+                    i ? "; " : "", candidates[i].gridBits, candidates[i].step,
+                    candidates[i].bits / 1000, candidates[i].j);
+      measured += text;
+    }
+  }
+  p.gridBits = candidates[best].gridBits;
+  p.motionQuantStep = candidates[best].step;
+  // Keyframes chosen by rate and distortion (never a loss), unless the user chose them.
+  if (!intra && !isSet("KeyframeLambda") && !isSet("KeyframeCount") && !isSet("KeyframeMaxError"))
+    p.keyframeLambda = -1;
+  if (report) {
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "Quality %d: %.1f bits over the %s (step %.6g): GridFit %s, GridBits %d, "
+                  "MotionQuantStep %d, Lambda %g, KeyframeLambda %g",
+                  p.quality, precision, p.gridFit == GridFit::kObject ? "object" : "sequence",
+                  target, p.gridFit == GridFit::kObject ? "object" : "sequence", p.gridBits,
+                  p.motionQuantStep, p.effectiveLambda(), p.keyframeLambda);
+    *report = text;
+    if (!measured.empty())
+      *report += " (chosen by coding the first frames with each candidate: " + measured + ")";
+  }
+  return p;
+}
+
+}  // namespace tdvo

@@ -1,0 +1,190 @@
+// The grid that fits the object (Grid::fitObject, GridFit object) and the Quality knob
+// (encoder/quality.h): candidates, trial, the keys the user set, and what the Encoder does.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "common/core/grid.h"
+#include "encoder/encoder.h"
+#include "encoder/quality.h"
+#include "encoder/sequence_encoder.h"
+#include "tools/eval/sample_mesh.h"
+
+namespace tdvo {
+namespace {
+
+TEST(GridFitObject, StepFromTheObjectBitsFromThePath) {
+  // An object of size 1 walking 10 along x: 8 bits over the object is a step of 1/255, and the
+  // path of 10 needs 2550 steps, 12 bits.
+  const Grid g = Grid::fitObject({0, 0, 0}, {10, 1, 1}, 1.0, 8);
+  EXPECT_EQ(g.step, 1.0 / 255);
+  EXPECT_EQ(g.bits, 12);
+  EXPECT_EQ(g.origin, (Vec3d{0, 0, 0}));
+  EXPECT_EQ(g.quantise(Vec3d{10, 1, 1}), (Vec3i{2550, 255, 255}));
+}
+
+TEST(GridFitObject, AnObjectThatSpansItsPathIsTheSequenceGrid) {
+  const Grid a = Grid::fitObject({0, 0, 0}, {2, 1, 1}, 2.0, 10);
+  const Grid b = Grid::fromBounds({0, 0, 0}, {2, 1, 1}, 10);
+  EXPECT_EQ(a.step, b.step);
+  EXPECT_EQ(a.bits, b.bits);
+}
+
+TEST(GridFitObject, APathTooLongForTwentyBitsGetsTheTwentyBitSequenceGrid) {
+  const Grid g = Grid::fitObject({0, 0, 0}, {1e6, 1, 1}, 1.0, 12);
+  const Grid s = Grid::fromBounds({0, 0, 0}, {1e6, 1, 1}, Grid::kMaxBits);
+  EXPECT_EQ(g.bits, Grid::kMaxBits);
+  EXPECT_EQ(g.step, s.step);
+}
+
+// The blob moved along x by `speed` of its size per frame.
+std::vector<Mesh> walkingBlob(int frames, double speed) {
+  std::vector<Mesh> seq = deformingBlob(2, frames);
+  for (size_t k = 0; k < seq.size(); ++k)
+    for (Vec3d& p : seq[k].positions)
+      p[0] += speed * 2.0 * static_cast<double>(k);
+  return seq;
+}
+
+FrameSource sourceOf(const std::vector<Mesh>& frames) {
+  FrameSource s;
+  s.count = frames.size();
+  s.read = [&frames](size_t k) { return frames[k]; };
+  s.name = [](size_t k) { return "frame " + std::to_string(k); };
+  return s;
+}
+
+TEST(GridFitObject, TheEncoderKeepsPrecisionOnAWalkingObject) {
+  const std::vector<Mesh> frames = walkingBlob(6, 1.0);
+  const FrameSource source = sourceOf(frames);
+  const SequenceBounds b = boundsOfSequence(source);
+  const Grid object = gridFor(b, 10, GridFit::kObject);
+  const Grid sequence = gridFor(b, 10, GridFit::kSequence);
+  EXPECT_GT(object.bits, 10);  // the path needs more than the object
+  EXPECT_LT(object.step, sequence.step / 3);
+  // Frame 0's largest extent spans about 2^10 - 1 steps.
+  EXPECT_NEAR(b.objectExtent / object.step, 1023.0, 1e-6);
+}
+
+struct Resolved {
+  EncoderParams params;
+  std::string report;
+};
+
+Resolved resolve(const std::vector<Mesh>& frames, int quality, std::set<std::string> set = {},
+                 EncoderParams p = {}) {
+  p.quality = quality;
+  p.gomSize = static_cast<int>(frames.size());
+  const FrameSource source = sourceOf(frames);
+  Resolved r;
+  r.params = resolveQuality(
+      p, boundsOfSequence(source), source,
+      [&set](const std::string& key) { return set.count(key) > 0; }, &r.report);
+  return r;
+}
+
+TEST(Quality, OffLeavesEveryKeyAsItIs) {
+  EncoderParams p;
+  p.gridBits = 9;
+  p.motionQuantStep = 3;
+  const Resolved r = resolve(walkingBlob(4, 0.1), -1, {}, p);
+  EXPECT_EQ(r.params.gridBits, 9);
+  EXPECT_EQ(r.params.motionQuantStep, 3);
+  EXPECT_EQ(r.params.gridFit, GridFit::kSequence);
+  EXPECT_TRUE(r.report.empty());
+}
+
+TEST(Quality, ChoosesTheCandidateOfLeastJAndReachesTheTargetStep) {
+  const std::vector<Mesh> frames = walkingBlob(10, 0.05);
+  for (int q : {0, 50, 90}) {
+    const Resolved r = resolve(frames, q);
+    EXPECT_EQ(r.params.gridFit, GridFit::kObject);
+    // The target step: 2^-(5 + q/10) of the object's size, as grid step times quantiser.
+    const SequenceBounds b = boundsOfSequence(sourceOf(frames));
+    const Grid grid = gridFor(b, r.params.gridBits, GridFit::kObject);
+    const double target = b.objectExtent / std::exp2(5 + q / 10.0);
+    if (r.params.gridBits > Grid::kMinBits) {
+      EXPECT_NEAR(grid.step * r.params.motionQuantStep / target, 1.0, 0.35) << r.report;
+    }
+    // The report lists each candidate; the chosen one has the least J.
+    EXPECT_NE(r.report.find("GridBits " + std::to_string(r.params.gridBits)), std::string::npos);
+    double least = 1e300, chosen = -1;
+    for (size_t at = r.report.find(", J "); at != std::string::npos;
+         at = r.report.find(", J ", at + 1)) {
+      const double j = std::stod(r.report.substr(at + 4));
+      const size_t name = r.report.rfind("GridBits ", at);
+      const int bits = std::stoi(r.report.substr(name + 9));
+      least = std::min(least, j);
+      if (bits == r.params.gridBits) chosen = j;
+    }
+    ASSERT_LT(least, 1e300) << r.report;  // a trial was made
+    EXPECT_EQ(chosen, least) << r.report;
+  }
+}
+
+TEST(Quality, HigherQualityIsAFinerStep) {
+  const std::vector<Mesh> frames = walkingBlob(8, 0.05);
+  double previous = 1e300;
+  for (int q : {0, 30, 60, 90}) {
+    const Resolved r = resolve(frames, q);
+    const Grid grid =
+        gridFor(boundsOfSequence(sourceOf(frames)), r.params.gridBits, r.params.gridFit);
+    const double step = grid.step * r.params.motionQuantStep;
+    EXPECT_LT(step, previous) << "Quality " << q << ": " << r.report;
+    previous = step;
+  }
+}
+
+TEST(Quality, KeysTheUserSetAreKept) {
+  const std::vector<Mesh> frames = walkingBlob(6, 0.05);
+  // GridBits or MotionQuantStep set: coding by hand, nothing derived.
+  EncoderParams p;
+  p.gridBits = 14;
+  Resolved r = resolve(frames, 50, {"GridBits"}, p);
+  EXPECT_EQ(r.params.gridBits, 14);
+  EXPECT_EQ(r.params.motionQuantStep, 1);
+  EXPECT_EQ(r.params.gridFit, GridFit::kSequence);
+  EXPECT_NE(r.report.find("not applied"), std::string::npos);
+  p = {};
+  p.motionQuantStep = 2;
+  r = resolve(frames, 50, {"MotionQuantStep"}, p);
+  EXPECT_EQ(r.params.motionQuantStep, 2);
+  EXPECT_EQ(r.params.gridBits, 12);
+  // GridFit set: kept, the rest chosen.
+  p = {};
+  p.gridFit = GridFit::kSequence;
+  r = resolve(frames, 50, {"GridFit"}, p);
+  EXPECT_EQ(r.params.gridFit, GridFit::kSequence);
+  EXPECT_NE(r.report.find("chosen by coding"), std::string::npos);
+}
+
+TEST(Quality, IsDeterministic) {
+  const std::vector<Mesh> frames = walkingBlob(9, 0.05);
+  const Resolved a = resolve(frames, 40), b = resolve(frames, 40);
+  EXPECT_EQ(a.report, b.report);
+  EXPECT_EQ(a.params.gridBits, b.params.gridBits);
+  EXPECT_EQ(a.params.motionQuantStep, b.params.motionQuantStep);
+}
+
+TEST(Quality, TheEncoderUsesItsChoiceAndSaysSo) {
+  const std::vector<Mesh> frames = walkingBlob(8, 0.05);
+  Encoder defaults;
+  defaults.set("GOMSize", "8");
+  const EncodedSequence a = defaults.encode(frames);
+  EXPECT_NE(defaults.qualityReport().find("Quality 50"), std::string::npos);
+  const Resolved r = resolve(frames, 50);
+  EXPECT_EQ(defaults.grid().step,
+            gridFor(boundsOfSequence(sourceOf(frames)), r.params.gridBits, GridFit::kObject).step);
+  Encoder manual;
+  manual.set("GOMSize", "8");
+  manual.set("Quality", "-1");
+  manual.encode(frames);
+  EXPECT_TRUE(manual.qualityReport().empty());
+  EXPECT_EQ(manual.grid().bits, 12);  // GridBits' default over the sequence's box
+}
+
+}  // namespace
+}  // namespace tdvo
