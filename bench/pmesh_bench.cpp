@@ -41,6 +41,7 @@
 #include "decoder/stream_decoder.h"
 #include "encoder/imesh_encoder.h"
 #include "encoder/pmesh_encoder.h"
+#include "encoder/quality.h"
 #include "encoder/sequence_encoder.h"
 
 using namespace tdvo;
@@ -391,6 +392,71 @@ void streamEncode(benchmark::State& state, const BenchSequence& s, const Conditi
   state.SetLabel("frames/s");
 }
 
+// P-mesh decoding at the default Quality (50): the grid (fitted to the object), quantiser and
+// Lambda that resolveQuality() chooses for the sequence, every frame a P mesh of the one before
+// (a keyframe subset only skips frames), closed loop. Built once per sequence on first use.
+struct QualityGom {
+  EncoderParams params;
+  GomTopology topology;
+  PMeshParams pmesh;
+  std::vector<std::vector<uint8_t>> payloads;  // [f] codes frame f from frame f - 1 (f >= 1)
+  std::vector<Vec3i> first;                    // the decoded I mesh
+};
+
+const QualityGom& qualityGomOf(const BenchSequence& s) {
+  static std::map<std::string, std::unique_ptr<QualityGom>> cache;
+  std::unique_ptr<QualityGom>& q = cache[s.name];
+  if (q) return *q;
+  q = std::make_unique<QualityGom>();
+  const Gom& g = gomOf(s);  // the frames
+  FrameSource source;
+  source.count = g.frames.size();
+  source.read = [&g](size_t k) { return g.frames[k]; };
+  const SequenceBounds bounds = boundsOfSequence(source);
+  EncoderParams defaults;
+  defaults.gomSize = s.gomSize;
+  q->params = resolveQuality(defaults, bounds, source, [](const std::string&) { return false; });
+  const Grid grid = gridFor(bounds, q->params.gridBits, q->params.gridFit);
+  const IMeshEncoding iMesh = encodeIMesh(grid.quantise(g.frames[0]), grid.bits, 0);
+  q->topology = GomTopology::build(iMesh.decoded);
+  q->pmesh.gridBits = grid.bits;
+  q->pmesh.quantStep = q->params.motionQuantStep;
+  q->pmesh.maxDepth = grid.bits;
+  q->first = iMesh.decoded.positions;
+  std::vector<Vec3i> previous = q->first;
+  q->payloads.emplace_back();
+  for (size_t f = 1; f < g.frames.size(); ++f) {
+    const IntMesh frame = grid.quantise(g.frames[f]);
+    std::vector<Vec3i> target(iMesh.inputIndex.size());
+    for (size_t j = 0; j < target.size(); ++j)
+      target[j] = frame.positions[iMesh.inputIndex[j]];
+    PMeshEncoding e =
+        encodePMesh(q->topology, previous, target, q->pmesh, q->params.effectiveLambda());
+    q->payloads.push_back(std::move(e.payload));
+    previous = std::move(e.reconstruction);
+  }
+  return *q;
+}
+
+void pmeshDecodeQuality(benchmark::State& state, const BenchSequence& s) {
+  const QualityGom& q = qualityGomOf(s);
+  PMeshWorkspace work;
+  std::vector<Vec3i> previous, current;
+  for (auto _ : state) {
+    previous = q.first;
+    for (size_t f = 1; f < q.payloads.size(); ++f) {
+      const std::vector<uint8_t>& p = q.payloads[f];
+      decodePMesh(p.data(), p.size(), q.topology, previous, q.pmesh, "bench", work, current);
+      previous.swap(current);
+    }
+    benchmark::DoNotOptimize(previous.data());
+  }
+  const int64_t vertexFrames = int64_t(q.topology.numVertices) * int64_t(q.payloads.size() - 1);
+  state.SetItemsProcessed(int64_t(state.iterations()) * vertexFrames);
+  state.SetLabel("vertex-frames/s, GridBits " + std::to_string(q.params.gridBits) +
+                 " MotionQuantStep " + std::to_string(q.params.motionQuantStep));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -401,6 +467,8 @@ int main(int argc, char** argv) {
       benchmark::RegisterBenchmark(("PMeshDecode/" + std::string(c.name) + seq).c_str(),
                                    pmeshDecode, s, c)
           ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("PMeshDecode/quality-50" + seq).c_str(), pmeshDecodeQuality, s)
+        ->Unit(benchmark::kMillisecond);
     for (const Condition& c : kConditions)
       benchmark::RegisterBenchmark(("PMeshBinsOnly/" + std::string(c.name) + seq).c_str(),
                                    pmeshBinsOnly, s, c)
