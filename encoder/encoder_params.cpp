@@ -30,8 +30,9 @@ void EncoderParams::registerOptions(OptionTable& t) {
         "one knob for the geometry's rate and precision, 0 (coarsest) .. 100 (finest): a "
         "target step of 1/2^(5 + Quality/10) of the object's size, reached by the grid and "
         "quantiser (GridFit object, GridBits, MotionQuantStep) that code the first frames at "
-        "the least rate + distortion; keys set explicitly are kept; -1 = off (every key at its "
-        "own value, as before Quality existed)");
+        "the least rate + distortion, and keyframes by rate and distortion; GridFit, Lambda "
+        "and keyframe keys set are kept; GridBits or MotionQuantStep set = coding by hand "
+        "(Quality changes nothing); -1 = off (every key at its own value)");
   t.section("Geometry");
   t.add("GridBits", gridBits, 8, 20,
         "precision of the integer grid: 2^GridBits - 1 steps span the sequence's bounding box "
