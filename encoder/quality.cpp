@@ -105,13 +105,8 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
   EncoderParams p = params;
   if (!isSet("GridFit")) p.gridFit = GridFit::kObject;
   const double precision = kQualityBitsAtZero + kQualityBitsPerStep * p.quality;
-  // The size 2^GridBits - 1 steps span, as gridFor() will use it.
-  double extent = 0;
-  for (int a = 0; a < 3; ++a)
-    extent = std::max(extent, bounds.hi[a] - bounds.lo[a]);
-  const double size =
-      p.gridFit == GridFit::kObject && bounds.objectExtent > 0 ? bounds.objectExtent : extent;
-  const double target = size / std::exp2(precision);  // Δ, world units
+  // Δ, world units, over the size 2^GridBits - 1 steps span as gridFor() will use it.
+  const double target = bounds.spannedSize(p.gridFit) / std::exp2(precision);
   const bool intra = p.pmeshMode == PMeshMode::kIntra;
 
   std::vector<Candidate> candidates;

@@ -67,6 +67,8 @@ struct SequenceBounds {
   double objectExtent = 0;
   size_t frames = 0;
   std::string firstName, lastName;
+  // What 2^bits - 1 steps of gridFor(*this, bits, fit) span (Grid::spannedSize).
+  double spannedSize(GridFit fit) const { return Grid::spannedSize(lo, hi, objectExtent, fit); }
 };
 // The bounds of frames read as gridForSequence() below reads them.
 SequenceBounds boundsOfSequence(

@@ -40,6 +40,20 @@ TEST(GridFitObject, APathTooLongForTwentyBitsGetsTheTwentyBitSequenceGrid) {
   EXPECT_EQ(g.step, s.step);
 }
 
+TEST(GridFitObject, SpannedSizeIsWhatTheGridSteps) {
+  // The object's size with GridFit object (as long as it is smaller than the box), else the
+  // box's largest extent: what 2^bits - 1 steps of fitObject / fromBounds cover.
+  const Vec3d lo{0, 0, 0}, hi{10, 1, 1};
+  EXPECT_EQ(Grid::largestExtent(lo, hi), 10.0);
+  EXPECT_EQ(Grid::spannedSize(lo, hi, 1.0, GridFit::kObject), 1.0);
+  EXPECT_EQ(Grid::spannedSize(lo, hi, 1.0, GridFit::kSequence), 10.0);
+  EXPECT_EQ(Grid::spannedSize(lo, hi, 0.0, GridFit::kObject), 10.0);
+  EXPECT_EQ(Grid::spannedSize(lo, hi, 1.0, GridFit::kObject) / 255,
+            Grid::fitObject(lo, hi, 1.0, 8).step);
+  EXPECT_EQ(Grid::spannedSize(lo, hi, 1.0, GridFit::kSequence) / 255,
+            Grid::fromBounds(lo, hi, 8).step);
+}
+
 // The blob moved along x by `speed` of its size per frame.
 std::vector<Mesh> walkingBlob(int frames, double speed) {
   std::vector<Mesh> seq = deformingBlob(2, frames);

@@ -14,9 +14,7 @@ Grid Grid::fromBounds(const Vec3d& lo, const Vec3d& hi, int bits) {
   Grid grid;
   grid.bits = bits;
   grid.origin = lo;
-  double extent = 0;
-  for (int a = 0; a < 3; ++a)
-    extent = std::max(extent, hi[a] - lo[a]);
+  const double extent = largestExtent(lo, hi);
   grid.step = extent > 0 ? extent / grid.maxCoordinate() : 1.0;
   // A step below the smallest normal double loses precision (or is 0): positions could not come
   // back within half a step, and the stream could not carry it (sh_grid_step must be positive).
@@ -33,11 +31,10 @@ Grid Grid::fromBounds(const Vec3d& lo, const Vec3d& hi, int bits) {
 
 Grid Grid::fitObject(const Vec3d& lo, const Vec3d& hi, double objectExtent, int precisionBits) {
   Grid grid = fromBounds(lo, hi, precisionBits);
-  double extent = 0;
-  for (int a = 0; a < 3; ++a)
-    extent = std::max(extent, hi[a] - lo[a]);
-  if (!(objectExtent > 0) || objectExtent >= extent) return grid;  // the object spans its path
-  const double step = objectExtent / grid.maxCoordinate();
+  const double extent = largestExtent(lo, hi);
+  const double size = spannedSize(lo, hi, objectExtent, GridFit::kObject);
+  if (size >= extent) return grid;  // the object spans its path
+  const double step = size / grid.maxCoordinate();
   if (!(step >= std::numeric_limits<double>::min())) return grid;
   for (int bits = precisionBits; bits <= kMaxBits; ++bits) {
     // The bounds' largest extent must round to a coordinate within the grid.
@@ -48,6 +45,19 @@ Grid Grid::fitObject(const Vec3d& lo, const Vec3d& hi, double objectExtent, int 
     }
   }
   return fromBounds(lo, hi, kMaxBits);
+}
+
+double Grid::largestExtent(const Vec3d& lo, const Vec3d& hi) {
+  double extent = 0;
+  for (int a = 0; a < 3; ++a)
+    extent = std::max(extent, hi[a] - lo[a]);
+  return extent;
+}
+
+double Grid::spannedSize(const Vec3d& lo, const Vec3d& hi, double objectExtent, GridFit fit) {
+  const double extent = largestExtent(lo, hi);
+  return fit == GridFit::kObject && objectExtent > 0 && objectExtent < extent ? objectExtent
+                                                                              : extent;
 }
 
 Vec3i Grid::quantise(const Vec3d& p) const {

@@ -37,6 +37,12 @@ struct Grid {
   // that cover the bounds at that step. Bounds too large for kMaxBits at that step get the
   // kMaxBits grid of fromBounds (a coarser step than asked; the caller can compare `step`).
   static Grid fitObject(const Vec3d& lo, const Vec3d& hi, double objectExtent, int precisionBits);
+  // The largest extent of the box [lo, hi] over the three axes.
+  static double largestExtent(const Vec3d& lo, const Vec3d& hi);
+  // The size that 2^bits - 1 steps span on the grid of `fit` for bounds [lo, hi]: the bounds'
+  // largest extent (GridFit sequence, fromBounds), or `objectExtent` when it is positive and
+  // smaller (GridFit object, fitObject; before its fallback to the kMaxBits grid).
+  static double spannedSize(const Vec3d& lo, const Vec3d& hi, double objectExtent, GridFit fit);
 
   int32_t maxCoordinate() const { return (int32_t{1} << bits) - 1; }
 
