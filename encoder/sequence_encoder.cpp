@@ -106,10 +106,48 @@ FrameSource sourceOf(const std::vector<Mesh>& frames, const std::vector<std::str
   return source;
 }
 
+// boundsOfSequence's fold: the frames added in frame order.
+class BoundsFold {
+ public:
+  void add(const Mesh& mesh) {
+    Vec3d frameLo{0, 0, 0}, frameHi{0, 0, 0};
+    for (size_t i = 0; i < mesh.positions.size(); ++i) {
+      const Vec3d& p = mesh.positions[i];
+      for (int a = 0; a < 3; ++a) {
+        b_.lo[a] = any_ ? std::min(b_.lo[a], p[a]) : p[a];
+        b_.hi[a] = any_ ? std::max(b_.hi[a], p[a]) : p[a];
+        frameLo[a] = i > 0 ? std::min(frameLo[a], p[a]) : p[a];
+        frameHi[a] = i > 0 ? std::max(frameHi[a], p[a]) : p[a];
+      }
+      any_ = true;
+    }
+    b_.objectExtent = std::max(b_.objectExtent, Grid::largestExtent(frameLo, frameHi));
+  }
+  // The bounds of the `count` frames added; `name(k)` names frame k.
+  SequenceBounds finish(size_t count, const std::function<std::string(size_t)>& name) {
+    check(any_, "no vertex positions to bound");
+    b_.frames = count;
+    b_.firstName = name(0);
+    b_.lastName = name(count - 1);
+    return b_;
+  }
+
+ private:
+  SequenceBounds b_;
+  bool any_ = false;
+};
+
 }  // namespace
 
 Grid gridForSequence(const std::vector<Mesh>& frames, int bits, GridFit fit) {
-  return gridForSequence(sourceOf(frames, {}), bits, fit);
+  return gridFor(boundsOfSequence(frames), bits, fit);
+}
+
+SequenceBounds boundsOfSequence(const std::vector<Mesh>& frames) {
+  BoundsFold fold;
+  for (const Mesh& mesh : frames)
+    fold.add(mesh);
+  return fold.finish(frames.size(), [](size_t k) { return "frame " + std::to_string(k); });
 }
 
 SequenceBounds boundsOfSequence(
@@ -117,8 +155,7 @@ SequenceBounds boundsOfSequence(
     const std::function<void(size_t frame, const Mesh& mesh)>& inspect) {
   // One fold, frame after frame in order, so the result is the same bit for bit for any
   // `threads`.
-  SequenceBounds b;
-  bool any = false;
+  BoundsFold fold;
   orderedParallelFor<Mesh>(
       source.count, threads, 2 * static_cast<size_t>(threads),
       [&](size_t k) {
@@ -127,29 +164,12 @@ SequenceBounds boundsOfSequence(
         return mesh;
       },
       [&](size_t k, Mesh& mesh) {
-        Vec3d frameLo{0, 0, 0}, frameHi{0, 0, 0};
-        for (size_t i = 0; i < mesh.positions.size(); ++i) {
-          const Vec3d& p = mesh.positions[i];
-          for (int a = 0; a < 3; ++a) {
-            b.lo[a] = any ? std::min(b.lo[a], p[a]) : p[a];
-            b.hi[a] = any ? std::max(b.hi[a], p[a]) : p[a];
-            frameLo[a] = i > 0 ? std::min(frameLo[a], p[a]) : p[a];
-            frameHi[a] = i > 0 ? std::max(frameHi[a], p[a]) : p[a];
-          }
-          any = true;
-        }
-        for (int a = 0; a < 3; ++a)
-          b.objectExtent = std::max(b.objectExtent, frameHi[a] - frameLo[a]);
+        fold.add(mesh);
         if (onFrameRead) onFrameRead(k);
       });
-  check(any, "no vertex positions to bound");
-  b.frames = source.count;
-  auto name = [&source](size_t k) {
+  return fold.finish(source.count, [&source](size_t k) {
     return source.name ? source.name(k) : "frame " + std::to_string(k);
-  };
-  b.firstName = name(0);
-  b.lastName = name(source.count - 1);
-  return b;
+  });
 }
 
 Grid gridFor(const SequenceBounds& bounds, int bits, GridFit fit) {

@@ -70,7 +70,9 @@ struct SequenceBounds {
   // What 2^bits - 1 steps of gridFor(*this, bits, fit) span (Grid::spannedSize).
   double spannedSize(GridFit fit) const { return Grid::spannedSize(lo, hi, objectExtent, fit); }
 };
-// The bounds of frames read as gridForSequence() below reads them.
+// The bounds of frames already read (named "frame k" in messages), each folded where it is.
+SequenceBounds boundsOfSequence(const std::vector<Mesh>& frames);
+// The bounds of frames read as gridForSequence() above reads them.
 SequenceBounds boundsOfSequence(
     const FrameSource& source, int threads = 1,
     const std::function<void(size_t frame)>& onFrameRead = {},
