@@ -169,6 +169,19 @@ GomList EncoderParams::goms(size_t frameCount) const {
   return list;
 }
 
+std::vector<std::pair<size_t, size_t>> EncoderParams::randomAccessRuns(size_t gomCount) const {
+  const size_t period = pmeshMode == PMeshMode::kIntra || randomAccessPeriod == 1
+                            ? 1
+                            : static_cast<size_t>(randomAccessPeriod);
+  std::vector<std::pair<size_t, size_t>> runs;
+  for (size_t g = 0; g < gomCount; ++g)
+    if (runs.empty() || (period != 0 && g % period == 0))
+      runs.emplace_back(g, 1);
+    else
+      ++runs.back().second;
+  return runs;
+}
+
 void EncoderParams::validate() const {
   check(!inputMeshPattern.empty() || !dataset.empty(),
         "InputMeshPattern is not set, nor a Dataset with meshes (see --help)");

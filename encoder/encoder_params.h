@@ -3,6 +3,8 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "bitstream/syntax.h"
 #include "common/core/config.h"
@@ -87,6 +89,12 @@ struct EncoderParams {
   // the last one shorter when GOMSize does not divide frameCount. Each GOM starts with an I mesh
   // and, with textures, an IDR picture; keyframes are chosen inside each GOM.
   GomList goms(size_t frameCount) const;
+  // The runs of `gomCount` GOMs (those of goms()), (first GOM, GOM count), each from one random
+  // access point to the next: RandomAccessPeriod GOMs each (the last one shorter), all GOMs in
+  // one run for 0, and every GOM a run of its own with PMeshMode intra. The GOMs of a run are
+  // coded one after the other (each may continue the previous one's connectivity); runs are
+  // independent, and each starts with an I mesh.
+  std::vector<std::pair<size_t, size_t>> randomAccessRuns(size_t gomCount) const;
 
   // Binds every field to its cfg key (the single list of keys; docs/options.md mirrors it).
   void registerOptions(OptionTable& table);

@@ -20,13 +20,11 @@ struct Candidate {
   double bits = 0, distortion = 0;  // extrapolated to the sequence
 };
 
-// Random access points of the sequence's GOMs (each carries an I mesh).
+// The I meshes of a sequence of `frames` frames: one per random access point (the first GOM of
+// each run), every frame with PMeshMode intra.
 size_t randomAccessGoms(const EncoderParams& p, size_t frames) {
-  const size_t goms = p.goms(frames).size();
-  if (p.pmeshMode == PMeshMode::kIntra) return frames;  // every frame an I mesh
-  if (p.randomAccessPeriod == 0) return 1;
-  const size_t period = static_cast<size_t>(p.randomAccessPeriod);
-  return (goms + period - 1) / period;
+  if (p.pmeshMode == PMeshMode::kIntra) return frames;
+  return p.randomAccessRuns(p.goms(frames).size()).size();
 }
 
 // Codes the first `count` frames as one GOM with candidate `c` and fills its extrapolated rate,

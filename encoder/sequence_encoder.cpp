@@ -253,15 +253,7 @@ EncodedSequence encodeSequence(const EncoderParams& inParams, const Grid& grid,
   // Runs of GOMs from one random access point to the next (RandomAccessPeriod; P-mesh modes
   // only) are coded one after the other in a task, as each GOM of a run may continue the
   // previous one's connectivity; runs are independent.
-  std::vector<std::pair<size_t, size_t>> runs;  // first GOM, GOM count
-  const size_t period = params.pmeshMode == PMeshMode::kIntra || params.randomAccessPeriod == 1
-                            ? 1
-                            : static_cast<size_t>(params.randomAccessPeriod);
-  for (size_t g = 0; g < goms.size(); ++g)
-    if (runs.empty() || (period != 0 && g % period == 0))
-      runs.emplace_back(g, 1);
-    else
-      ++runs.back().second;
+  const std::vector<std::pair<size_t, size_t>> runs = params.randomAccessRuns(goms.size());
   orderedParallelFor<std::vector<GomGeometry>>(
       runs.size(), threads, 2 * static_cast<size_t>(threads),
       [&](size_t r) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bitstream/byte_io.h"
@@ -155,6 +156,20 @@ TEST(GomListFile, ReplacesGomSizeAndIsCheckedByValidate) {
               std::string::npos)
         << e.what();
   }
+}
+
+TEST(RandomAccessRuns, PeriodGomsEachOneRunForZeroEveryGomWithIntra) {
+  using Runs = std::vector<std::pair<size_t, size_t>>;
+  EncoderParams params;
+  params.randomAccessPeriod = 1;
+  EXPECT_EQ(params.randomAccessRuns(3), (Runs{{0, 1}, {1, 1}, {2, 1}}));
+  params.randomAccessPeriod = 2;
+  EXPECT_EQ(params.randomAccessRuns(5), (Runs{{0, 2}, {2, 2}, {4, 1}}));
+  params.randomAccessPeriod = 0;
+  EXPECT_EQ(params.randomAccessRuns(5), (Runs{{0, 5}}));
+  params.pmeshMode = PMeshMode::kIntra;
+  EXPECT_EQ(params.randomAccessRuns(2), (Runs{{0, 1}, {1, 1}}));
+  EXPECT_EQ(params.randomAccessRuns(0), Runs{});
 }
 
 TEST(GomListFile, UnevenGomsEncodeAndDecodeBitExactly) {
