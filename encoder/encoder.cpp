@@ -172,15 +172,23 @@ EncodedSequence Encoder::encode(const FrameSource& source, const FrameCallback& 
 
   std::optional<TextureBoxFinder> boxes;
   if (input) boxes.emplace(p, *input, source.count);
+  const IsSetFunction isSet = [this](const std::string& key) { return s_->table.wasSet(key); };
+  // The first frames, which Quality's trial codes, kept from the bounds pass for the trial: like
+  // every frame they are read twice (bounds, encode), not a third time for the trial.
+  std::vector<Mesh> kept(qualityTrialFrames(p, source.count, isSet));
   const SequenceBounds bounds =
-      boundsOfSequence(source, p.threadCount(), onFramesRead,
-                       boxes ? [&](size_t, const Mesh& mesh) { boxes->add(mesh); }
-                             : std::function<void(size_t, const Mesh&)>());
+      boundsOfSequence(source, p.threadCount(), onFramesRead, [&](size_t k, const Mesh& mesh) {
+        if (boxes) boxes->add(mesh);
+        if (k < kept.size()) kept[k] = mesh;  // each k from one thread: no lock
+      });
   // Quality's choices, with the keys the user set kept (encoder/quality.h).
   s_->qualityReport.clear();
-  p = resolveQuality(
-      p, bounds, source, [this](const std::string& key) { return s_->table.wasSet(key); },
-      &s_->qualityReport);
+  {
+    FrameSource first = source;
+    first.read = [&kept](size_t k) { return kept.at(k); };
+    p = resolveQuality(p, bounds, first, isSet, &s_->qualityReport);
+  }
+  kept = {};  // the encode holds no more than its GOMs
   const Grid grid = s_->grid = gridFor(bounds, p.gridBits, p.gridFit);
   std::unique_ptr<TextureEncoder> textures;
   if (boxes) textures = std::make_unique<TextureEncoder>(p, *input, boxes->boxes());

@@ -86,14 +86,27 @@ class QuietWarnings {
   WarningHandler previous_;
 };
 
+// Setting either precision key means coding by hand: Quality derives nothing.
+bool codedByHand(const IsSetFunction& isSet) {
+  return isSet("GridBits") || isSet("MotionQuantStep");
+}
+
 }  // namespace
 
+size_t qualityTrialFrames(const EncoderParams& params, size_t frameCount,
+                          const IsSetFunction& isSet) {
+  if (params.quality < 0 || params.pmeshMode == PMeshMode::kIntra || frameCount == 0 ||
+      codedByHand(isSet))
+    return 0;
+  const size_t firstGom = static_cast<size_t>(params.goms(frameCount).front().second);
+  return std::min<size_t>(kQualityTrialFrames, firstGom);
+}
+
 EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& bounds,
-                             const FrameSource& source,
-                             const std::function<bool(const std::string& key)>& isSet,
+                             const FrameSource& source, const IsSetFunction& isSet,
                              std::string* report) {
   if (params.quality < 0) return params;
-  if (isSet("GridBits") || isSet("MotionQuantStep")) {
+  if (codedByHand(isSet)) {
     // Coding by hand: the precision keys as given, and nothing else derived.
     if (report)
       *report = "Quality " + std::to_string(params.quality) +
@@ -130,8 +143,7 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
   size_t best = 0;
   if (candidates.size() > 1) {
     // The trial: the first frames of the first GOM.
-    const size_t firstGom = static_cast<size_t>(p.goms(source.count).front().second);
-    const size_t count = std::min<size_t>(kQualityTrialFrames, firstGom);
+    const size_t count = qualityTrialFrames(p, source.count, isSet);
     // Named as the encode names them, so that an error the trial meets (it meets the real
     // encode's first errors first) reads the same.
     std::vector<Mesh> frames;

@@ -28,13 +28,21 @@ constexpr int kQualityTrialFrames = 8;
 constexpr double kQualityBitsAtZero = 5.0;
 constexpr double kQualityBitsPerStep = 0.1;  // bits of precision per Quality step
 
-// `params` with Quality resolved (Quality < 0: `params` unchanged). `isSet(key)` says whether
-// the user set a key (it then keeps its value). `source` and `bounds` are the sequence's;
-// the trial reads its first frames again. `report` (optional) receives one line saying what was
-// chosen and what each candidate measured.
+// Whether the user set a cfg key (it then keeps its value).
+using IsSetFunction = std::function<bool(const std::string& key)>;
+
+// How many frames the trial of resolveQuality() reads, the first of the sequence of `frameCount`
+// frames: kQualityTrialFrames at most, and no more than the first GOM; 0 when it has no trial
+// (Quality < 0, coding by hand, or PMeshMode intra, whose one candidate needs none). A caller
+// that read them already (the bounds pass) can keep them and serve them to the trial.
+size_t qualityTrialFrames(const EncoderParams& params, size_t frameCount,
+                          const IsSetFunction& isSet);
+
+// `params` with Quality resolved (Quality < 0: `params` unchanged). `source` and `bounds` are the
+// sequence's; the trial reads frames 0 .. qualityTrialFrames() - 1 through `source` once.
+// `report` (optional) receives one line saying what was chosen and what each candidate measured.
 EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& bounds,
-                             const FrameSource& source,
-                             const std::function<bool(const std::string& key)>& isSet,
+                             const FrameSource& source, const IsSetFunction& isSet,
                              std::string* report = nullptr);
 
 }  // namespace tdvo

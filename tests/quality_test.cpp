@@ -2,6 +2,7 @@
 // (encoder/quality.h): candidates, trial, the keys the user set, and what the Encoder does.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <set>
 #include <string>
@@ -198,6 +199,25 @@ TEST(Quality, TheEncoderUsesItsChoiceAndSaysSo) {
   manual.encode(frames);
   EXPECT_TRUE(manual.qualityReport().empty());
   EXPECT_EQ(manual.grid().bits, 12);  // GridBits' default over the sequence's box
+}
+
+TEST(Quality, TheTrialReadsNoFrameAThirdTime) {
+  // The Encoder reads every frame twice (bounds, then GOM by GOM; frame 0 once more for
+  // encodeSequence's look at its attributes); the trial codes the first frames kept from the
+  // first pass.
+  const std::vector<Mesh> frames = walkingBlob(12, 0.05);
+  std::vector<std::atomic<int>> reads(frames.size());
+  FrameSource counted = sourceOf(frames);
+  counted.read = [&](size_t k) {
+    ++reads[k];
+    return frames[k];
+  };
+  Encoder encoder;
+  encoder.set("GOMSize", "6");
+  encoder.encode(counted);
+  EXPECT_NE(encoder.qualityReport().find("chosen by coding"), std::string::npos);
+  for (size_t k = 0; k < frames.size(); ++k)
+    EXPECT_EQ(reads[k], k == 0 ? 3 : 2) << "frame " << k;
 }
 
 }  // namespace
