@@ -22,7 +22,9 @@
 //                                   cost on this machine: a floor for PMeshDecode
 //
 // Conditions: d3dmc-lossless (MotionQuantStep 1, Lambda 0), d3dmc-lossy (MotionQuantStep 8,
-// automatic Lambda), afxic (AFX-IC-style reference, MotionQuantStep 1). GridBits 12.
+// automatic Lambda), afxic (AFX-IC-style reference, MotionQuantStep 1), all on the sequence's
+// 12-bit grid; and for PMeshDecode quality-50: the grid (fitted to the object), quantiser and
+// Lambda that the default Quality (50) chooses for the sequence.
 //
 //   build/bin/pmesh_bench --benchmark_filter=PMeshDecode
 #include <benchmark/benchmark.h>
@@ -51,21 +53,25 @@ namespace {
 
 constexpr int kGridBits = 12;
 
+// A coding condition: its grid (GridBits, GridFit) and its P-mesh coding.
 struct Condition {
   const char* name;
   PMeshMode mode;
+  int gridBits;
+  GridFit fit;
   int quantStep;
   double lambda;  // -1: automatic
 };
 const Condition kConditions[] = {
-    {"d3dmc-lossless", PMeshMode::kD3dmc, 1, 0},
-    {"d3dmc-lossy", PMeshMode::kD3dmc, 8, -1},
-    {"afxic", PMeshMode::kAfxic, 1, 0},
+    {"d3dmc-lossless", PMeshMode::kD3dmc, kGridBits, GridFit::kSequence, 1, 0},
+    {"d3dmc-lossy", PMeshMode::kD3dmc, kGridBits, GridFit::kSequence, 8, -1},
+    {"afxic", PMeshMode::kAfxic, kGridBits, GridFit::kSequence, 1, 0},
 };
 
 EncoderParams encoderParams(const Condition& c, const BenchSequence& s) {
   EncoderParams p;
-  p.gridBits = kGridBits;
+  p.gridBits = c.gridBits;
+  p.gridFit = c.fit;
   p.gomSize = s.gomSize;
   p.pmeshMode = c.mode;
   p.motionQuantStep = c.quantStep;
@@ -73,10 +79,18 @@ EncoderParams encoderParams(const Condition& c, const BenchSequence& s) {
   return p;
 }
 
-// A sequence quantised, its frame 0 coded as an I mesh, and the other frames as targets in the
-// I mesh's (decoded) vertex order. Built once per sequence, on first use.
+// The frames of a sequence, loaded once on first use.
+const std::vector<Mesh>& framesOf(const BenchSequence& s) {
+  static std::map<std::string, std::vector<Mesh>> cache;
+  std::vector<Mesh>& frames = cache[s.name];
+  if (frames.empty()) frames = bench::loadFrames(s);
+  return frames;
+}
+
+// A sequence quantised to a condition's grid, its frame 0 coded as an I mesh, and the other
+// frames as targets in the I mesh's (decoded) vertex order. Built once per sequence and grid, on
+// first use.
 struct Gom {
-  std::vector<Mesh> frames;
   Grid grid;
   IMeshEncoding iMesh;
   GomTopology topology;
@@ -84,19 +98,20 @@ struct Gom {
   uint64_t vertices() const { return topology.numVertices; }
 };
 
-const Gom& gomOf(const BenchSequence& s) {
+const Gom& gomOf(const BenchSequence& s, const Condition& c) {
   static std::map<std::string, std::unique_ptr<Gom>> cache;
-  std::unique_ptr<Gom>& g = cache[s.name];
+  std::unique_ptr<Gom>& g = cache[s.name + "/" + std::to_string(c.gridBits) +
+                                  (c.fit == GridFit::kObject ? "/object" : "/sequence")];
   if (g) return *g;
   g = std::make_unique<Gom>();
-  g->frames = bench::loadFrames(s);
-  g->grid = gridForSequence(g->frames, kGridBits);
-  const IntMesh first = g->grid.quantise(g->frames[0]);
-  g->iMesh = encodeIMesh(first, kGridBits, 0);
+  const std::vector<Mesh>& frames = framesOf(s);
+  g->grid = gridForSequence(frames, c.gridBits, c.fit);
+  const IntMesh first = g->grid.quantise(frames[0]);
+  g->iMesh = encodeIMesh(first, g->grid.bits, 0);
   g->topology = GomTopology::build(g->iMesh.decoded);
   g->targets.push_back(g->iMesh.decoded.positions);
-  for (size_t f = 1; f < g->frames.size(); ++f) {
-    const IntMesh q = g->grid.quantise(g->frames[f]);
+  for (size_t f = 1; f < frames.size(); ++f) {
+    const IntMesh q = g->grid.quantise(frames[f]);
     std::vector<Vec3i> t(g->iMesh.inputIndex.size());
     for (size_t j = 0; j < t.size(); ++j)
       t[j] = q.positions[g->iMesh.inputIndex[j]];
@@ -105,11 +120,17 @@ const Gom& gomOf(const BenchSequence& s) {
   return *g;
 }
 
-PMeshParams pmeshParams(const Condition& c) {
+// The sequence on the 12-bit grid, for the benchmarks that have no condition.
+const Gom& gomOf(const BenchSequence& s) {
+  return gomOf(s, kConditions[0]);
+}
+
+// The P-mesh coding of a condition on its grid (which may have more bits than GridBits).
+PMeshParams pmeshParams(const Gom& g, const Condition& c) {
   PMeshParams p;
-  p.gridBits = kGridBits;
+  p.gridBits = g.grid.bits;
   p.quantStep = c.quantStep;
-  p.maxDepth = kGridBits;
+  p.maxDepth = g.grid.bits;
   return p;
 }
 
@@ -132,8 +153,8 @@ const Coded& codedOf(const BenchSequence& s, const Condition& c) {
   std::unique_ptr<Coded>& coded = cache[s.name + "/" + c.name];
   if (coded) return *coded;
   coded = std::make_unique<Coded>();
-  const Gom& g = gomOf(s);
-  const PMeshParams params = pmeshParams(c);
+  const Gom& g = gomOf(s, c);
+  const PMeshParams params = pmeshParams(g, c);
   std::vector<Vec3i> previous = g.targets[0];
   coded->payloads.emplace_back();
   coded->previous.emplace_back();
@@ -150,9 +171,9 @@ const Coded& codedOf(const BenchSequence& s, const Condition& c) {
 }
 
 void pmeshDecode(benchmark::State& state, const BenchSequence& s, const Condition& c) {
-  const Gom& g = gomOf(s);
+  const Gom& g = gomOf(s, c);
   const Coded& coded = codedOf(s, c);
-  const PMeshParams params = pmeshParams(c);
+  const PMeshParams params = pmeshParams(g, c);
   const std::string context = "bench";
   PMeshWorkspace work;
   std::vector<Vec3i> previous, current;
@@ -240,9 +261,9 @@ const std::vector<std::vector<uint8_t>>& binsOf(const BenchSequence& s, const Co
   static std::map<std::string, std::vector<std::vector<uint8_t>>> cache;
   std::vector<std::vector<uint8_t>>& ops = cache[s.name + "/" + c.name];
   if (!ops.empty()) return ops;
-  const Gom& g = gomOf(s);
+  const Gom& g = gomOf(s, c);
   const Coded& coded = codedOf(s, c);
-  const PMeshParams params = pmeshParams(c);
+  const PMeshParams params = pmeshParams(g, c);
   ops.resize(coded.payloads.size());
   std::vector<Vec3i> previous = g.targets[0];
   for (size_t f = 1; f < coded.payloads.size(); ++f) {
@@ -266,7 +287,7 @@ const std::vector<std::vector<uint8_t>>& binsOf(const BenchSequence& s, const Co
 }
 
 void pmeshBinsOnly(benchmark::State& state, const BenchSequence& s, const Condition& c) {
-  const Gom& g = gomOf(s);
+  const Gom& g = gomOf(s, c);
   const Coded& coded = codedOf(s, c);
   const std::vector<std::vector<uint8_t>>& ops = binsOf(s, c);
   uint64_t bins = 0;
@@ -297,9 +318,9 @@ void pmeshBinsOnly(benchmark::State& state, const BenchSequence& s, const Condit
 }
 
 void pmeshEncode(benchmark::State& state, const BenchSequence& s, const Condition& c) {
-  const Gom& g = gomOf(s);
+  const Gom& g = gomOf(s, c);
   const Coded& coded = codedOf(s, c);
-  const PMeshParams params = pmeshParams(c);
+  const PMeshParams params = pmeshParams(g, c);
   const double lambda = lambdaOf(c);
   for (auto _ : state)
     for (size_t f = 1; f < coded.payloads.size(); ++f) {
@@ -326,10 +347,10 @@ void topologyBuild(benchmark::State& state, const BenchSequence& s) {
 
 void iMeshEncode(benchmark::State& state, const BenchSequence& s) {
   const Gom& g = gomOf(s);
-  const IntMesh input = g.grid.quantise(g.frames[0]);
+  const IntMesh input = g.grid.quantise(framesOf(s)[0]);
   size_t bytes = 0;
   for (auto _ : state) {
-    IMeshEncoding e = encodeIMesh(input, kGridBits, 0);
+    IMeshEncoding e = encodeIMesh(input, g.grid.bits, 0);
     bytes = e.payload.size();
     benchmark::DoNotOptimize(e.payload.data());
   }
@@ -341,7 +362,7 @@ void iMeshEncode(benchmark::State& state, const BenchSequence& s) {
 void iMeshDecode(benchmark::State& state, const BenchSequence& s) {
   const Gom& g = gomOf(s);
   for (auto _ : state) {
-    IntMesh m = decodeIMesh(g.iMesh.payload, kGridBits, "bench");
+    IntMesh m = decodeIMesh(g.iMesh.payload, g.grid.bits, "bench");
     benchmark::DoNotOptimize(m.positions.data());
   }
   state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(g.vertices()));
@@ -354,9 +375,10 @@ const std::vector<uint8_t>& streamOf(const BenchSequence& s, const Condition& c)
   static std::map<std::string, std::vector<uint8_t>> cache;
   std::vector<uint8_t>& stream = cache[s.name + "/" + c.name];
   if (!stream.empty()) return stream;
-  const Gom& g = gomOf(s);
+  const Gom& g = gomOf(s, c);
+  const std::vector<Mesh>& frames = framesOf(s);
   stream =
-      encodeSequence(encoderParams(c, s), g.grid, g.frames, {}, [](int, const IntMesh&) {}).stream;
+      encodeSequence(encoderParams(c, s), g.grid, frames, {}, [](int, const IntMesh&) {}).stream;
   return stream;
 }
 
@@ -381,80 +403,42 @@ void streamDecode(benchmark::State& state, const BenchSequence& s, const Conditi
 
 void streamEncode(benchmark::State& state, const BenchSequence& s, const Condition& c,
                   int threads) {
-  const Gom& g = gomOf(s);
+  const Gom& g = gomOf(s, c);
   EncoderParams params = encoderParams(c, s);
   params.threads = threads;
   for (auto _ : state) {
-    EncodedSequence e = encodeSequence(params, g.grid, g.frames, {}, [](int, const IntMesh&) {});
+    EncodedSequence e = encodeSequence(params, g.grid, framesOf(s), {}, [](int, const IntMesh&) {});
     benchmark::DoNotOptimize(e.stream.data());
   }
-  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(g.frames.size()));
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(framesOf(s).size()));
   state.SetLabel("frames/s");
 }
 
-// P-mesh decoding at the default Quality (50): the grid (fitted to the object), quantiser and
-// Lambda that resolveQuality() chooses for the sequence, every frame a P mesh of the one before
-// (a keyframe subset only skips frames), closed loop. Built once per sequence on first use.
-struct QualityGom {
-  EncoderParams params;
-  GomTopology topology;
-  PMeshParams pmesh;
-  std::vector<std::vector<uint8_t>> payloads;  // [f] codes frame f from frame f - 1 (f >= 1)
-  std::vector<Vec3i> first;                    // the decoded I mesh
-};
-
-const QualityGom& qualityGomOf(const BenchSequence& s) {
-  static std::map<std::string, std::unique_ptr<QualityGom>> cache;
-  std::unique_ptr<QualityGom>& q = cache[s.name];
-  if (q) return *q;
-  q = std::make_unique<QualityGom>();
-  const Gom& g = gomOf(s);  // the frames
+// The condition the default Quality (50) chooses for a sequence: the grid (fitted to the
+// object), quantiser and Lambda of resolveQuality(), found once per sequence on first use (its
+// trial codes the first frames). Its P meshes are coded as every condition's are: every frame a
+// P mesh of the one before (a keyframe subset only skips frames), closed loop.
+const Condition& qualityCondition(const BenchSequence& s) {
+  static std::map<std::string, Condition> cache;
+  const auto found = cache.find(s.name);
+  if (found != cache.end()) return found->second;
+  const std::vector<Mesh>& frames = framesOf(s);
   FrameSource source;
-  source.count = g.frames.size();
-  source.read = [&g](size_t k) { return g.frames[k]; };
-  const SequenceBounds bounds = boundsOfSequence(source);
+  source.count = frames.size();
+  source.read = [&frames](size_t k) { return frames[k]; };
   EncoderParams defaults;
   defaults.gomSize = s.gomSize;
-  q->params = resolveQuality(defaults, bounds, source, [](const std::string&) { return false; });
-  const Grid grid = gridFor(bounds, q->params.gridBits, q->params.gridFit);
-  const IMeshEncoding iMesh = encodeIMesh(grid.quantise(g.frames[0]), grid.bits, 0);
-  q->topology = GomTopology::build(iMesh.decoded);
-  q->pmesh.gridBits = grid.bits;
-  q->pmesh.quantStep = q->params.motionQuantStep;
-  q->pmesh.maxDepth = grid.bits;
-  q->first = iMesh.decoded.positions;
-  std::vector<Vec3i> previous = q->first;
-  q->payloads.emplace_back();
-  for (size_t f = 1; f < g.frames.size(); ++f) {
-    const IntMesh frame = grid.quantise(g.frames[f]);
-    std::vector<Vec3i> target(iMesh.inputIndex.size());
-    for (size_t j = 0; j < target.size(); ++j)
-      target[j] = frame.positions[iMesh.inputIndex[j]];
-    PMeshEncoding e =
-        encodePMesh(q->topology, previous, target, q->pmesh, q->params.effectiveLambda());
-    q->payloads.push_back(std::move(e.payload));
-    previous = std::move(e.reconstruction);
-  }
-  return *q;
+  const EncoderParams p = resolveQuality(defaults, boundsOfSequence(frames), source,
+                                         [](const std::string&) { return false; });
+  const Condition c{"quality-50", p.pmeshMode, p.gridBits, p.gridFit, p.motionQuantStep, p.lambda};
+  return cache.emplace(s.name, c).first->second;
 }
 
 void pmeshDecodeQuality(benchmark::State& state, const BenchSequence& s) {
-  const QualityGom& q = qualityGomOf(s);
-  PMeshWorkspace work;
-  std::vector<Vec3i> previous, current;
-  for (auto _ : state) {
-    previous = q.first;
-    for (size_t f = 1; f < q.payloads.size(); ++f) {
-      const std::vector<uint8_t>& p = q.payloads[f];
-      decodePMesh(p.data(), p.size(), q.topology, previous, q.pmesh, "bench", work, current);
-      previous.swap(current);
-    }
-    benchmark::DoNotOptimize(previous.data());
-  }
-  const int64_t vertexFrames = int64_t(q.topology.numVertices) * int64_t(q.payloads.size() - 1);
-  state.SetItemsProcessed(int64_t(state.iterations()) * vertexFrames);
-  state.SetLabel("vertex-frames/s, GridBits " + std::to_string(q.params.gridBits) +
-                 " MotionQuantStep " + std::to_string(q.params.motionQuantStep));
+  const Condition& c = qualityCondition(s);
+  pmeshDecode(state, s, c);
+  state.SetLabel("vertex-frames/s, GridBits " + std::to_string(c.gridBits) + " MotionQuantStep " +
+                 std::to_string(c.quantStep));
 }
 
 }  // namespace
