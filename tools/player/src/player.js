@@ -11,8 +11,12 @@
 //   frame=N           start at stream frame N (from 0; decoded from the GOM start before it)
 //   play=1            start playing
 //   path=0            no automatic camera path
-//   direction=ray|axis, sharpness=K, tolerance=T, fallback=nearest|colour
-//                     weighting options (defaults as tools/render/view_renderer.h RenderOptions)
+//   blending=angle|ulr, direction=ray|axis, sharpness=K, resolution=B, edgewidth=E, tolerance=T,
+//   fallback=nearest|colour
+//                     weighting options (3dvo-render's Blending, ViewDirection, Sharpness,
+//                     ResolutionPenalty, EdgeWidth, DepthTolerance, Fallback; defaults as
+//                     tools/render/view_renderer.h RenderOptions, but Fallback=fill is not
+//                     implemented here: nearest)
 //   exclude=NAME,...  cameras whose textures are not used (leave-one-out views)
 //   md5=1             hash every decoded frame as 3dvo-dec does (md5Lines()) and play the stream
 //                     once through as fast as it decodes
@@ -28,7 +32,8 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { cameraCentre, setIntrinsics, setPose } from './camera_math.js';
-import { blendFragment, blendVertex, convertFragment, convertVertex, depthFragment, depthVertex }
+import { blendFragment, blendVertex, convertFragment, convertVertex, depthFragment, depthVertex,
+         edgeFragment, edgeRowFragment }
   from './shaders.js';
 import { FrameStream, INTERRUPTED, readInto } from './stream.js';
 import { upDirection, ViewPath } from './view_path.js';
@@ -170,8 +175,12 @@ async function main() {
     stream.dropTextures(gpuProblem + ': playing without textures');
     textured = false;
   }
-  const weights = { direction: 'axis', sharpness: 4, depthTolerance: 0.01, fallback: 'nearest',
+  const weights = { blending: 'ulr', direction: 'axis', sharpness: 4, resolutionPenalty: 1,
+                    edgeWidth: 8, depthTolerance: 0.01, fallback: 'nearest',
                     fallbackColour: [128, 128, 128], background: [0, 0, 0] };
+  if (params.has('blending')) weights.blending = params.get('blending');
+  if (params.has('resolution')) weights.resolutionPenalty = Number(params.get('resolution'));
+  if (params.has('edgewidth')) weights.edgeWidth = Math.min(16, Math.max(0, Number(params.get('edgewidth'))));
   if (params.has('direction')) weights.direction = params.get('direction');
   if (params.has('sharpness')) weights.sharpness = Number(params.get('sharpness'));
   if (params.has('tolerance')) weights.depthTolerance = Number(params.get('tolerance'));
@@ -263,6 +272,14 @@ async function main() {
         Math.max(...cameras.map((c) => c.width)), Math.max(...cameras.map((c) => c.height)),
         cameras.length, { type: THREE.FloatType, format: THREE.RedFormat, depthBuffer: true });
     depthTarget.texture.minFilter = depthTarget.texture.magFilter = THREE.NearestFilter;
+    const edgeTargets = [0, 1].map(() => {
+      const t = new THREE.WebGLArrayRenderTarget(depthTarget.width, depthTarget.height, cameras.length,
+                                                 { type: THREE.FloatType, format: THREE.RedFormat,
+                                                   depthBuffer: false });
+      t.texture.minFilter = t.texture.magFilter = THREE.NearestFilter;
+      t.texture.generateMipmaps = false;
+      return t;
+    });
     const cameraData = cameraTexture(cameras, excluded);
     const depthMaterial = new THREE.ShaderMaterial({
       glslVersion: THREE.GLSL3,
@@ -304,6 +321,11 @@ async function main() {
         uCameras: { value: cameraData },
         uRgb: { value: rgbTarget.texture },
         uDepth: { value: depthTarget.texture },
+        uEdge: { value: edgeTargets[1].texture },
+        uBlending: { value: weights.blending === 'ulr' ? 1 : 0 },
+        uResolutionPenalty: { value: weights.resolutionPenalty },
+        uEdgeWidth: { value: weights.edgeWidth },
+        uViewFocal: { value: 1 },
         uCount: { value: cameras.length },
         uViewCentre: { value: new THREE.Vector3() },
         uViewAxis: { value: new THREE.Vector3() },
@@ -319,6 +341,36 @@ async function main() {
     const depthScene = new THREE.Scene();
     depthScene.add(depthMesh);
     const depthCamera = new THREE.Camera();  // unused by the depth shader's own projection
+    // Blending=ulr: the edge distance maps from the depth maps (src/shaders.js edgeRowFragment).
+    const edgeUniforms = { uLayer: { value: 0 }, uSize: { value: new THREE.Vector2() },
+                           uRadius: { value: Math.ceil(weights.edgeWidth) },
+                           uEdgeWidth: { value: weights.edgeWidth } };
+    const edgePasses = [
+      [edgeRowFragment, { uDepth: { value: depthTarget.texture } }],
+      [edgeFragment, { uRows: { value: edgeTargets[0].texture } }],
+    ].map(([fragmentShader, own]) => {
+      const material = new THREE.ShaderMaterial({
+        glslVersion: THREE.GLSL3, vertexShader: convertVertex, fragmentShader,
+        uniforms: { ...edgeUniforms, ...own }, depthTest: false, depthWrite: false });
+      const pass = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
+      pass.frustumCulled = false;
+      const scene = new THREE.Scene();
+      scene.add(pass);
+      return scene;
+    });
+    const drawEdgeMaps = () => {
+      edgePasses.forEach((scene, k) => {
+        cameras.forEach((c, i) => {
+          edgeUniforms.uLayer.value = i;
+          edgeUniforms.uSize.value.set(c.width, c.height);
+          edgeTargets[k].viewport.set(0, 0, c.width, c.height);
+          edgeTargets[k].scissor.set(0, 0, c.width, c.height);
+          renderer.setRenderTarget(edgeTargets[k], i);
+          renderer.render(scene, depthCamera);
+        });
+      });
+      renderer.setRenderTarget(null);
+    };
     drawDepthMaps = () => {
       depthMesh.geometry = mesh.geometry;
       cameras.forEach((c, i) => {
@@ -335,6 +387,7 @@ async function main() {
       });
       renderer.setRenderTarget(null);
       renderer.setClearColor(background, 0);
+      if (weights.blending === 'ulr' && weights.edgeWidth > 0) drawEdgeMaps();
     };
     // Each camera's planes into its layer (rows of the box, top row first).
     showPictures = (pictures) => {
@@ -368,6 +421,7 @@ async function main() {
                   d + 1.5 * radius);
     if (mesh.material === blendMaterial) {
       blendMaterial.uniforms.uViewCentre.value.copy(view.position);
+      blendMaterial.uniforms.uViewFocal.value = intrinsics[0];
       view.getWorldDirection(blendMaterial.uniforms.uViewAxis.value);
     }
     renderer.render(world, view);
@@ -411,7 +465,7 @@ async function main() {
     const parts = [source.name];
     if (info.description) parts.push(info.description);
     parts.push(cameras.length ? `${cameras.length} cameras` : 'geometry only');
-    if (textured) parts.push(`weights: ${weights.direction}, k = ${weights.sharpness}`);
+    if (textured) parts.push(`weights: ${weights.blending}, ${weights.direction}, k = ${weights.sharpness}`);
     if (progress) parts.push(progress);
     if (buffering) parts.push('buffering');
     statusLine.textContent = parts.join(' · ');

@@ -164,6 +164,69 @@ out vec4 outColour;
 void main() { outColour = vec4(boxRgb(ivec2(gl_FragCoord.xy), ivec2(uSize), uLayer), 1.0); }
 `;
 
+// Blending=ulr's edge distance maps (tools/render/view_renderer.h edgeDistances), per camera
+// from its depth layer (1 / z, 0 = outside the shape) in two passes of one fragment per texel
+// (the viewport at the camera's size; layout as the depth layer's). A texel is an edge texel
+// when it is inside the shape and a 4-neighbour inside the image is outside it or its depth
+// differs by more than EDGE_DEPTH_JUMP (kEdgeDepthJump) times the nearer one's; for inverse
+// depths a and b that is |a − b| > EDGE_DEPTH_JUMP · min(a, b). The exact Euclidean distance to
+// the nearest edge texel, capped at uEdgeWidth, is found separably: pass 1 writes per texel the
+// distance along its row (|dx| ≤ uRadius = ceil(uEdgeWidth), else 1e4), pass 2 the least
+// sqrt(row² + dy²) over |dy| ≤ uRadius.
+const edgeCommon = /* glsl */ `
+precision highp float;
+precision highp int;
+precision highp sampler2DArray;
+uniform int uLayer;
+uniform vec2 uSize;    // the camera's image size
+uniform int uRadius;
+uniform float uEdgeWidth;
+out vec4 outColour;
+`;
+
+export const edgeRowFragment = /* glsl */ `
+${edgeCommon}
+uniform highp sampler2DArray uDepth;
+const float EDGE_DEPTH_JUMP = 0.05;
+float inverseDepthAt(ivec2 p) { return texelFetch(uDepth, ivec3(p, uLayer), 0).r; }
+bool isEdge(ivec2 p) {
+  ivec2 size = ivec2(uSize);
+  if (p.x < 0 || p.y < 0 || p.x >= size.x || p.y >= size.y) return false;
+  float a = inverseDepthAt(p);
+  if (!(a > 0.0)) return false;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 n = p + (k < 2 ? ivec2(2 * k - 1, 0) : ivec2(0, 2 * k - 5));
+    if (n.x < 0 || n.y < 0 || n.x >= size.x || n.y >= size.y) continue;
+    float b = inverseDepthAt(n);
+    if (!(b > 0.0) || abs(a - b) > EDGE_DEPTH_JUMP * min(a, b)) return true;
+  }
+  return false;
+}
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  float row = 1e4;
+  for (int dx = -uRadius; dx <= uRadius; ++dx)
+    if (isEdge(p + ivec2(dx, 0))) row = min(row, float(abs(dx)));
+  outColour = vec4(row, 0.0, 0.0, 1.0);
+}
+`;
+
+export const edgeFragment = /* glsl */ `
+${edgeCommon}
+uniform highp sampler2DArray uRows;  // pass 1
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  float d = uEdgeWidth;
+  for (int dy = -uRadius; dy <= uRadius; ++dy) {
+    int y = p.y + dy;
+    if (y < 0 || y >= int(uSize.y)) continue;
+    float row = texelFetch(uRows, ivec3(p.x, y, uLayer), 0).r;
+    d = min(d, sqrt(row * row + float(dy * dy)));
+  }
+  outColour = vec4(d, 0.0, 0.0, 1.0);
+}
+`;
+
 // The view-dependent blend (MAX_CAMERAS is defined by the material). A camera's texel takes
 // part when it lies in the camera's image and texture box and inside the object's shape there:
 // the pixels the decoded mesh covers in that camera, i.e. where its depth map is not empty
@@ -175,22 +238,30 @@ precision highp sampler2DArray;
 ${cameraCommon}
 uniform highp sampler2DArray uRgb;    // per camera its box's RGB (the conversion pass)
 uniform highp sampler2DArray uDepth;  // per camera 1 / z, layer = camera
+uniform highp sampler2DArray uEdge;   // per camera the edge distance (edgeFragment), ulr only
 uniform int uCount;
 uniform vec3 uViewCentre;
 uniform vec3 uViewAxis;
 uniform int uDirection;               // 0: ray, 1: axis
 uniform float uSharpness;
+uniform int uBlending;                // 0: angle, 1: ulr
+uniform float uResolutionPenalty;
+uniform float uEdgeWidth;
+uniform float uViewFocal;             // the view's fx (pixels)
 uniform float uTolerance;
 uniform int uFallback;                // 0: nearest, 1: colour
 uniform vec3 uFallbackColour;
 in vec3 vWorld;
 out vec4 outColour;
+const float EDGE_FLOOR = 1e-3;  // kEdgeFloor
 
 void main() {
   vec3 P = vWorld;
   vec3 toView = uDirection == 0 ? normalize(uViewCentre - P) : uViewAxis;
   float s[MAX_CAMERAS];
+  float edge[MAX_CAMERAS];  // ulr: the edge factor e_i
   vec3 colour[MAX_CAMERAS];
+  float viewFootprint = dot(P - uViewCentre, uViewAxis) / uViewFocal;
   int seen = 0;
   float nearestS = 1e30;
   vec3 nearestColour = vec3(0.0);
@@ -205,7 +276,7 @@ void main() {
     ivec2 p0 = ivec2(floor(p));
     vec2 a = p - vec2(p0);
     float hidden = (1.0 + uTolerance) / q.z;  // hidden when 1 / D exceeds this
-    float seenW = 0.0, maskW = 0.0;
+    float seenW = 0.0, maskW = 0.0, edgeD = 0.0;
     vec3 seenC = vec3(0.0), maskC = vec3(0.0);
     for (int k = 0; k < 4; ++k) {
       ivec2 x = p0 + ivec2(k & 1, k >> 1);
@@ -213,7 +284,8 @@ void main() {
       if (b <= 0.0 || x.x < 0 || x.y < 0 || x.x >= int(c.size.x) || x.y >= int(c.size.y)) continue;
       ivec2 inBox = x - c.box.xy;
       if (inBox.x < 0 || inBox.y < 0 || inBox.x >= c.box.z || inBox.y >= c.box.w) continue;
-      float inverseDepth = texelFetch(uDepth, ivec3(x.x, int(c.size.y) - 1 - x.y, i), 0).r;
+      ivec3 at = ivec3(x.x, int(c.size.y) - 1 - x.y, i);
+      float inverseDepth = texelFetch(uDepth, at, 0).r;
       if (!(inverseDepth > 0.0)) continue;  // outside the object's shape in this camera
       vec3 texel = texelFetch(uRgb, ivec3(inBox, i), 0).rgb;
       maskW += b;
@@ -221,12 +293,20 @@ void main() {
       if (inverseDepth > hidden) continue;
       seenW += b;
       seenC += b * texel;
+      if (uBlending == 1 && uEdgeWidth > 0.0) edgeD += b * texelFetch(uEdge, at, 0).r;
     }
     if (maskW <= 0.0) continue;
     vec3 d = uDirection == 0 ? normalize(c.centre - P) : c.axis;
     vec3 e = d - toView;
     float si = 0.5 * dot(e, e);
     if (seenW > 0.0) {
+      if (uBlending == 1) {  // resolution penalty (view_weights.h ulrWeights)
+        float r = q.z / c.intr.x / viewFootprint;
+        si *= 1.0 + uResolutionPenalty * max(0.0, r - 1.0);
+        edge[seen] = uEdgeWidth > 0.0 ? clamp(edgeD / seenW / uEdgeWidth, EDGE_FLOOR, 1.0) : 1.0;
+      } else {
+        edge[seen] = 1.0;
+      }
       s[seen] = si;
       colour[seen] = seenC / seenW;
       ++seen;
@@ -246,6 +326,7 @@ void main() {
       float w;
       if (smallest <= 0.0) w = s[j] <= 0.0 ? 1.0 : 0.0;
       else w = pow(smallest / s[j], 0.5 * uSharpness);
+      w *= edge[j];
       sum += w;
       result += w * colour[j];
     }
