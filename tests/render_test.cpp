@@ -101,9 +101,8 @@ TEST_F(SynthRig, LeaveOneOutUsesOnlyTheOtherCameras) {
 
 TEST_F(SynthRig, UlrBlendingBeatsAngleBlendingLeavingOneOut) {
   // Measured on frame 0: angle 32.3 dB, ulr 33.6 dB pooled (docs/rendering.md, "Blending").
-  RenderOptions angle, ulr;
-  ulr.blending = Blending::ulr;
-  ulr.edgeWidth = 8;
+  RenderOptions angle, ulr;  // ulr with EdgeWidth 8: the defaults
+  angle.blending = Blending::angle;
   SquaredError a, u;
   for (const LeaveOneOutRow& r : leaveOneOut(*dataset_, {0}, angle))
     a += r.heldOut;

@@ -11,11 +11,14 @@
 //     the texels that take part (their bilinear weights renormalised);
 //   - camera i sees P when at least one texel with non-zero bilinear weight takes part.
 // The colour is Σ w_i · sample_i over the cameras that see P, with the view-dependent weights of
-// tools/eval/view_weights.h. Where no camera sees P the fallback applies: `nearest` takes the
-// sample of the camera with the largest weight among those where P projects inside the image and
-// inside the mask, ignoring the depth test (hidden surfaces get the colour of what hides them
-// rather than a hole), and where even that fails the flat fallback colour; `colour` uses the flat
-// colour right away.
+// tools/eval/view_weights.h: `Blending::angle` (viewWeights) or `Blending::ulr` (ulrWeights: a
+// resolution penalty and a factor falling to 0 at camera i's silhouette and depth edges, from
+// the per-camera edge distance maps of FrameViews). Where no camera sees P the fallback applies:
+// `fill` colours the pixel from the blended pixels around it in the rendered image (push-pull);
+// `nearest` takes the sample of the camera with the largest weight among those where P projects
+// inside the image and inside the mask, ignoring the depth test (hidden surfaces get the colour
+// of what hides them rather than a hole), and where even that fails the flat fallback colour;
+// `colour` uses the flat colour right away.
 #pragma once
 
 #include <array>
@@ -53,13 +56,13 @@ constexpr int kMaxEdgeWidth = 16;
 constexpr double kEdgeDepthJump = 0.05;
 
 struct RenderOptions {
-  Blending blending = Blending::angle;
+  Blending blending = Blending::ulr;
   ViewDirection direction = ViewDirection::axis;
   double sharpness = 4;          // k of the weights (view_weights.h)
   double resolutionPenalty = 1;  // ulr: β of s_i · (1 + β · max(0, r_i − 1))
-  double edgeWidth = 4;          // ulr: pixels over which a camera's weight rises from its edges
+  double edgeWidth = 8;          // ulr: pixels over which a camera's weight rises from its edges
   double depthTolerance = 0.01;  // relative depth tolerance of the visibility test
-  Fallback fallback = Fallback::nearest;
+  Fallback fallback = Fallback::fill;
   std::array<uint8_t, 3> fallbackColour = {128, 128, 128};  // where no camera has a sample
   std::array<uint8_t, 3> background = {0, 0, 0};  // pixels the mesh does not cover (alpha 0)
 };
