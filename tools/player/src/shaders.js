@@ -249,7 +249,7 @@ uniform float uResolutionPenalty;
 uniform float uEdgeWidth;
 uniform float uViewFocal;             // the view's fx (pixels)
 uniform float uTolerance;
-uniform int uFallback;                // 0: nearest, 1: colour
+uniform int uFallback;                // 0: nearest, 1: colour, 2: fill
 uniform vec3 uFallbackColour;
 in vec3 vWorld;
 out vec4 outColour;
@@ -333,9 +333,84 @@ void main() {
     result /= sum;
   } else if (uFallback == 0 && haveNearest) {
     result = nearestColour;
+  } else if (uFallback == 2) {
+    outColour = vec4(0.0, 0.0, 0.0, 0.5);  // filled by the push-pull passes (fillFragment)
+    return;
   } else {
     result = uFallbackColour;
   }
   outColour = vec4(result, 1.0);
+}
+`;
+
+// Fallback=fill (tools/render/view_renderer.cpp fillFromBlended): push-pull over the blended
+// frame. The frame target holds the blend pass's output: alpha 1 where blended, 0.5 where no
+// camera sees the point (to be filled), 0 where the mesh does not cover the pixel. Levels 1, 2,
+// … hold image rows top first (texel row y = image row y); the frame target and the canvas hold
+// GL rows (bottom first), so their row is flipped. A level's weight is its alpha (0 or 1).
+const fillCommon = /* glsl */ `
+precision highp float;
+precision highp int;
+uniform highp sampler2D uFine;    // push: the finer level; pull: the level itself
+uniform highp sampler2D uCoarse;  // pull: the coarser level, already pulled
+uniform ivec2 uFineSize;
+uniform ivec2 uCoarseSize;
+uniform bool uFineIsFrame;        // uFine is the frame target (GL rows, alpha 0.5 = to fill)
+uniform vec3 uFlat;               // no blended pixel at all: the flat colour
+out vec4 outColour;
+
+// Colour and weight (0 or 1) of image pixel p of the fine level.
+vec4 fineAt(ivec2 p) {
+  if (!uFineIsFrame) return texelFetch(uFine, p, 0);
+  vec4 t = texelFetch(uFine, ivec2(p.x, uFineSize.y - 1 - p.y), 0);
+  return t.a > 0.75 ? vec4(t.rgb, 1.0) : vec4(0.0);
+}
+
+// The pulled coarse level, bilinear at fine image pixel p (coarse centres at 2X + 0.5, clamped).
+vec3 coarseAt(ivec2 p) {
+  vec2 c = clamp((vec2(p) - 0.5) / 2.0, vec2(0.0), vec2(uCoarseSize - 1));
+  ivec2 c0 = ivec2(c);
+  ivec2 c1 = min(c0 + 1, uCoarseSize - 1);
+  vec2 a = c - vec2(c0);
+  return mix(mix(texelFetch(uCoarse, c0, 0).rgb, texelFetch(uCoarse, ivec2(c1.x, c0.y), 0).rgb, a.x),
+             mix(texelFetch(uCoarse, ivec2(c0.x, c1.y), 0).rgb, texelFetch(uCoarse, c1, 0).rgb, a.x),
+             a.y);
+}
+`;
+
+// One level coarser: per 2 × 2 block the mean of its pixels of weight 1 (weight 1 if any).
+export const pushFragment = /* glsl */ `
+${fillCommon}
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  vec4 sum = vec4(0.0);
+  for (int k = 0; k < 4; ++k) {
+    ivec2 f = 2 * p + ivec2(k & 1, k >> 1);
+    if (f.x < uFineSize.x && f.y < uFineSize.y) sum += fineAt(f);
+  }
+  outColour = sum.a > 0.0 ? vec4(sum.rgb / sum.a, 1.0) : vec4(0.0);
+}
+`;
+
+// A level filled from the coarser one (the top level: from the flat colour).
+export const pullFragment = /* glsl */ `
+${fillCommon}
+uniform bool uTop;
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  vec4 own = fineAt(p);
+  if (own.a > 0.0) outColour = own;
+  else outColour = vec4(uTop ? uFlat : coarseAt(p), 1.0);
+}
+`;
+
+// Level 0 onto the canvas (GL rows): the frame as drawn, the pixels to fill from level 1.
+export const fillFragment = /* glsl */ `
+${fillCommon}
+void main() {
+  ivec2 g = ivec2(gl_FragCoord.xy);
+  vec4 t = texelFetch(uFine, g, 0);
+  if (t.a > 0.25 && t.a < 0.75) t = vec4(coarseAt(ivec2(g.x, uFineSize.y - 1 - g.y)), 1.0);
+  outColour = t;
 }
 `;
