@@ -177,3 +177,59 @@ TEST(ViewWeights, ApproachTheOwnCameraLimitWithoutOverflow) {
 TEST(ViewWeights, NoCameras) {
   viewWeights(nullptr, 0, 8, nullptr);  // nothing to do, nothing touched
 }
+
+TEST(UlrWeights, SumToOneAndAreNonNegativeForAnyResolutionAndEdge) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const size_t n = 1 + trial % 17;
+    std::vector<double> s(n), r(n), e(n), w(n);
+    for (size_t i = 0; i < n; ++i) {
+      s[i] = 2 * unit(rng);
+      r[i] = 4 * unit(rng);
+      e[i] = trial % 3 == 0 ? 0.0 : unit(rng);  // every edge factor 0 in a third of the rigs
+    }
+    ulrWeights(s.data(), r.data(), e.data(), n, 1 + trial % 6, unit(rng) * 3, w.data());
+    double sum = 0;
+    for (double x : w) {
+      EXPECT_GE(x, 0.0);
+      sum += x;
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-12);
+  }
+}
+
+TEST(UlrWeights, ExactlyOneCameraAtItsOwnPoseWhateverResolutionAndEdge) {
+  // s_j = 0: camera j's weight is exactly 1 even on its own edge (e = 0) and with coarse texels.
+  const std::vector<double> s = {0.3, 0.0, 0.01, 1.5}, r = {1, 3, 0.5, 1}, e = {1, 0, 1, 1};
+  std::vector<double> w(4);
+  ulrWeights(s.data(), r.data(), e.data(), 4, 4, 2, w.data());
+  EXPECT_EQ(w[1], 1.0);
+  EXPECT_EQ(w[0], 0.0);
+  EXPECT_EQ(w[2], 0.0);
+  EXPECT_EQ(w[3], 0.0);
+}
+
+TEST(UlrWeights, EdgeAndResolutionMoveWeightAwayAndAreContinuous) {
+  const std::vector<double> s = {0.1, 0.1}, r = {1, 1};
+  std::vector<double> w(2), previous(2);
+  // Equal cameras share; as camera 0 nears its edge (e → 0) its weight falls smoothly to the
+  // floor's share, and never jumps.
+  std::vector<double> e = {1, 1};
+  ulrWeights(s.data(), r.data(), e.data(), 2, 4, 1, previous.data());
+  EXPECT_NEAR(previous[0], 0.5, 1e-15);
+  for (double e0 = 1; e0 >= 0; e0 -= 1e-3) {
+    e[0] = std::max(e0, 0.0);
+    ulrWeights(s.data(), r.data(), e.data(), 2, 4, 1, w.data());
+    EXPECT_LE(w[0], previous[0] + 1e-15);
+    EXPECT_LT(maxDifference(w, previous), 2e-3);
+    previous = w;
+  }
+  EXPECT_NEAR(w[0], kEdgeFloor / (1 + kEdgeFloor), 1e-12);
+  // Coarser texels (r > 1) lower a camera's weight; finer ones (r < 1) change nothing.
+  const std::vector<double> coarse = {2, 1}, fine = {0.5, 1}, full = {1, 1};
+  ulrWeights(s.data(), coarse.data(), full.data(), 2, 4, 1, w.data());
+  EXPECT_NEAR(w[0], 1 / (1 + std::pow(2.0, 2)), 1e-12);  // s'_0 = 2 s_0: (1/2)^(k/2) = 1/4
+  ulrWeights(s.data(), fine.data(), full.data(), 2, 4, 1, w.data());
+  EXPECT_NEAR(w[0], 0.5, 1e-15);
+}

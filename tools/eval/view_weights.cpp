@@ -33,4 +33,20 @@ void viewWeights(const double* s, size_t count, double sharpness, double* w) {
     w[i] /= sum;  // sum ≥ 1: the nearest camera contributes 1
 }
 
+void ulrWeights(const double* s, const double* r, const double* e, size_t count, double sharpness,
+                double beta, double* w) {
+  if (count == 0) return;
+  // The penalised s' in w: viewWeights reads s_i before it writes w_i, so it may work in place.
+  for (size_t i = 0; i < count; ++i)
+    w[i] = s[i] * (1 + beta * std::max(0.0, r[i] - 1));
+  viewWeights(w, count, sharpness, w);
+  double sum = 0;
+  for (size_t i = 0; i < count; ++i) {
+    w[i] *= std::clamp(e[i], kEdgeFloor, 1.0);
+    sum += w[i];
+  }
+  for (size_t i = 0; i < count; ++i)
+    w[i] /= sum;
+}
+
 }  // namespace tdvo

@@ -36,4 +36,21 @@ double oneMinusCosine(const Vec3d& a, const Vec3d& b);
 // sharpness k > 0 (formula above). Writes `count` weights to `weights`; count may be 0.
 void viewWeights(const double* oneMinusCos, size_t count, double sharpness, double* weights);
 
+// Unstructured-lumigraph-style weights (in the spirit of Buehler et al. 2001, "Unstructured
+// Lumigraph Rendering"): per camera i, besides s_i, its resolution ratio r_i (camera i's texel
+// footprint at the surface point over the virtual view's pixel footprint there) and its edge
+// factor e_i in [0, 1] (0 on an edge of camera i's shape, 1 at EdgeWidth pixels from it or
+// further). With β ≥ 0:
+//
+//   s'_i = s_i · (1 + β · max(0, r_i − 1))       (coarser texels count as a larger angle)
+//   u_i  = viewWeights(s')_i · max(e_i, kEdgeFloor)
+//   w_i  = u_i / Σ_j u_j
+//
+// Properties: w_i ≥ 0, Σ w_i = 1 (u has a positive term: the largest viewWeights term is
+// ≥ 1/count, times ≥ kEdgeFloor); where s_j = 0 for one camera its weight is exactly 1 whatever
+// r and e (viewWeights gives the others exactly 0); continuous in s, r and e (every factor is).
+constexpr double kEdgeFloor = 1e-3;
+void ulrWeights(const double* oneMinusCos, const double* resolution, const double* edge,
+                size_t count, double sharpness, double resolutionPenalty, double* weights);
+
 }  // namespace tdvo

@@ -60,18 +60,29 @@ struct Params {
     t.addEnum("Mode", mode, {{"render", Mode::render}, {"leave-one-out", Mode::leaveOneOut}},
               "render a camera path; leave-one-out PSNR per camera");
     t.section("Weights and visibility");
+    t.addEnum("Blending", render.blending, {{"angle", Blending::angle}, {"ulr", Blending::ulr}},
+              "camera weights: angle, w_i ~ sin(theta_i/2)^-k; or ulr, the angle term with a "
+              "resolution penalty times a factor rising from 0 at camera i's silhouette and "
+              "depth edges over EdgeWidth pixels (docs/rendering.md, \"Blending\")");
     t.addEnum("ViewDirection", render.direction,
               {{"axis", ViewDirection::axis}, {"ray", ViewDirection::ray}},
               "directions whose angle makes the weights: the optical axes (axis, as in the "
               "source paper) or, per surface point, the directions to the camera centres (ray)");
     t.add("Sharpness", render.sharpness, 0.01, 1000,
           "k in w_i ~ (1 - cos theta_i)^(-k/2): larger favours the nearest camera more");
+    t.add("ResolutionPenalty", render.resolutionPenalty, 0, 1000,
+          "Blending=ulr: beta in s_i * (1 + beta * max(0, r_i - 1)), r_i camera i's texel "
+          "footprint at the point over the view's pixel footprint");
+    t.add("EdgeWidth", render.edgeWidth, 0, kMaxEdgeWidth,
+          "Blending=ulr: pixels from camera i's silhouette or depth edge over which its weight "
+          "rises from 0 to full (0: no edge factor)");
     t.add("DepthTolerance", render.depthTolerance, 0, 10,
           "relative depth tolerance of the visibility test (0.01: 1 % of the depth)");
-    t.addEnum("Fallback", render.fallback,
-              {{"nearest", Fallback::nearest}, {"colour", Fallback::colour}},
-              "where no camera sees a point: the nearest camera ignoring depth, or the flat "
-              "FallbackColour");
+    t.addEnum(
+        "Fallback", render.fallback,
+        {{"nearest", Fallback::nearest}, {"colour", Fallback::colour}, {"fill", Fallback::fill}},
+        "where no camera sees a point: the nearest camera ignoring depth, the flat "
+        "FallbackColour, or fill from the neighbouring blended pixels (push-pull)");
     t.add("FallbackColour", fallbackColour, "flat fallback colour r,g,b");
     t.add("Background", background, "colour r,g,b of pixels the mesh does not cover (alpha 0)");
     t.section("Camera path (Mode=render)");
@@ -256,10 +267,10 @@ void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames
   const double covered = stats.covered ? double(stats.covered) : 1.0;
   std::printf(
       "3dvo-render: wrote %zu views to %s%s%s; of %zu object pixels %.2f %% blended, %.2f %% "
-      "nearest-camera fallback, %.2f %% flat fallback\n",
+      "nearest-camera fallback, %.2f %% flat fallback, %.2f %% filled\n",
       views.size(), p.output.c_str(), p.mp4.empty() ? "" : " and ", p.mp4.c_str(), stats.covered,
       100.0 * stats.blended / covered, 100.0 * stats.fallbackNearest / covered,
-      100.0 * stats.fallbackColour / covered);
+      100.0 * stats.fallbackColour / covered, 100.0 * stats.fallbackFill / covered);
 }
 
 }  // namespace

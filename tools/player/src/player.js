@@ -11,8 +11,11 @@
 //   frame=N           start at stream frame N (from 0; decoded from the GOM start before it)
 //   play=1            start playing
 //   path=0            no automatic camera path
-//   direction=ray|axis, sharpness=K, tolerance=T, fallback=nearest|colour
-//                     weighting options (defaults as tools/render/view_renderer.h RenderOptions)
+//   blending=angle|ulr, direction=ray|axis, sharpness=K, resolution=B, edgewidth=E, tolerance=T,
+//   fallback=fill|nearest|colour
+//                     weighting options (3dvo-render's Blending, ViewDirection, Sharpness,
+//                     ResolutionPenalty, EdgeWidth, DepthTolerance, Fallback; defaults as
+//                     tools/render/view_renderer.h RenderOptions)
 //   exclude=NAME,...  cameras whose textures are not used (leave-one-out views)
 //   md5=1             hash every decoded frame as 3dvo-dec does (md5Lines()) and play the stream
 //                     once through as fast as it decodes
@@ -28,7 +31,8 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 import { cameraCentre, setIntrinsics, setPose } from './camera_math.js';
-import { blendFragment, blendVertex, convertFragment, convertVertex, depthFragment, depthVertex }
+import { blendFragment, blendVertex, convertFragment, convertVertex, depthFragment, depthVertex,
+         edgeFragment, edgeRowFragment, fillFragment, pullFragment, pushFragment }
   from './shaders.js';
 import { FrameStream, INTERRUPTED, readInto } from './stream.js';
 import { upDirection, ViewPath } from './view_path.js';
@@ -170,8 +174,12 @@ async function main() {
     stream.dropTextures(gpuProblem + ': playing without textures');
     textured = false;
   }
-  const weights = { direction: 'axis', sharpness: 4, depthTolerance: 0.01, fallback: 'nearest',
+  const weights = { blending: 'ulr', direction: 'axis', sharpness: 4, resolutionPenalty: 1,
+                    edgeWidth: 8, depthTolerance: 0.01, fallback: 'fill',
                     fallbackColour: [128, 128, 128], background: [0, 0, 0] };
+  if (params.has('blending')) weights.blending = params.get('blending');
+  if (params.has('resolution')) weights.resolutionPenalty = Number(params.get('resolution'));
+  if (params.has('edgewidth')) weights.edgeWidth = Math.min(16, Math.max(0, Number(params.get('edgewidth'))));
   if (params.has('direction')) weights.direction = params.get('direction');
   if (params.has('sharpness')) weights.sharpness = Number(params.get('sharpness'));
   if (params.has('tolerance')) weights.depthTolerance = Number(params.get('tolerance'));
@@ -258,11 +266,20 @@ async function main() {
   view.add(light);
   world.add(view);
   let blendMaterial = null;
+  let drawFilled = null;  // Fallback=fill: draws the view through the push-pull passes
   if (textured) {
     const depthTarget = new THREE.WebGLArrayRenderTarget(
         Math.max(...cameras.map((c) => c.width)), Math.max(...cameras.map((c) => c.height)),
         cameras.length, { type: THREE.FloatType, format: THREE.RedFormat, depthBuffer: true });
     depthTarget.texture.minFilter = depthTarget.texture.magFilter = THREE.NearestFilter;
+    const edgeTargets = [0, 1].map(() => {
+      const t = new THREE.WebGLArrayRenderTarget(depthTarget.width, depthTarget.height, cameras.length,
+                                                 { type: THREE.FloatType, format: THREE.RedFormat,
+                                                   depthBuffer: false });
+      t.texture.minFilter = t.texture.magFilter = THREE.NearestFilter;
+      t.texture.generateMipmaps = false;
+      return t;
+    });
     const cameraData = cameraTexture(cameras, excluded);
     const depthMaterial = new THREE.ShaderMaterial({
       glslVersion: THREE.GLSL3,
@@ -304,21 +321,57 @@ async function main() {
         uCameras: { value: cameraData },
         uRgb: { value: rgbTarget.texture },
         uDepth: { value: depthTarget.texture },
+        uEdge: { value: edgeTargets[1].texture },
+        uBlending: { value: weights.blending === 'ulr' ? 1 : 0 },
+        uResolutionPenalty: { value: weights.resolutionPenalty },
+        uEdgeWidth: { value: weights.edgeWidth },
+        uViewFocal: { value: 1 },
         uCount: { value: cameras.length },
         uViewCentre: { value: new THREE.Vector3() },
         uViewAxis: { value: new THREE.Vector3() },
         uDirection: { value: weights.direction === 'axis' ? 1 : 0 },
         uSharpness: { value: weights.sharpness },
         uTolerance: { value: weights.depthTolerance },
-        uFallback: { value: weights.fallback === 'colour' ? 1 : 0 },
+        uFallback: { value: { nearest: 0, colour: 1, fill: 2 }[weights.fallback] ?? 2 },
         uFallbackColour: { value: new THREE.Vector3(...weights.fallbackColour.map((v) => v / 255)) },
       },
     });
+    if (weights.fallback === 'fill') drawFilled = fillPasses(renderer, weights.fallbackColour);
     const depthMesh = new THREE.Mesh(mesh.geometry, depthMaterial);
     depthMesh.frustumCulled = false;
     const depthScene = new THREE.Scene();
     depthScene.add(depthMesh);
     const depthCamera = new THREE.Camera();  // unused by the depth shader's own projection
+    // Blending=ulr: the edge distance maps from the depth maps (src/shaders.js edgeRowFragment).
+    const edgeUniforms = { uLayer: { value: 0 }, uSize: { value: new THREE.Vector2() },
+                           uRadius: { value: Math.ceil(weights.edgeWidth) },
+                           uEdgeWidth: { value: weights.edgeWidth } };
+    const edgePasses = [
+      [edgeRowFragment, { uDepth: { value: depthTarget.texture } }],
+      [edgeFragment, { uRows: { value: edgeTargets[0].texture } }],
+    ].map(([fragmentShader, own]) => {
+      const material = new THREE.ShaderMaterial({
+        glslVersion: THREE.GLSL3, vertexShader: convertVertex, fragmentShader,
+        uniforms: { ...edgeUniforms, ...own }, depthTest: false, depthWrite: false });
+      const pass = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
+      pass.frustumCulled = false;
+      const scene = new THREE.Scene();
+      scene.add(pass);
+      return scene;
+    });
+    const drawEdgeMaps = () => {
+      edgePasses.forEach((scene, k) => {
+        cameras.forEach((c, i) => {
+          edgeUniforms.uLayer.value = i;
+          edgeUniforms.uSize.value.set(c.width, c.height);
+          edgeTargets[k].viewport.set(0, 0, c.width, c.height);
+          edgeTargets[k].scissor.set(0, 0, c.width, c.height);
+          renderer.setRenderTarget(edgeTargets[k], i);
+          renderer.render(scene, depthCamera);
+        });
+      });
+      renderer.setRenderTarget(null);
+    };
     drawDepthMaps = () => {
       depthMesh.geometry = mesh.geometry;
       cameras.forEach((c, i) => {
@@ -335,6 +388,7 @@ async function main() {
       });
       renderer.setRenderTarget(null);
       renderer.setClearColor(background, 0);
+      if (weights.blending === 'ulr' && weights.edgeWidth > 0) drawEdgeMaps();
     };
     // Each camera's planes into its layer (rows of the box, top row first).
     showPictures = (pictures) => {
@@ -368,9 +422,11 @@ async function main() {
                   d + 1.5 * radius);
     if (mesh.material === blendMaterial) {
       blendMaterial.uniforms.uViewCentre.value.copy(view.position);
+      blendMaterial.uniforms.uViewFocal.value = intrinsics[0];
       view.getWorldDirection(blendMaterial.uniforms.uViewAxis.value);
     }
-    renderer.render(world, view);
+    if (mesh.material === blendMaterial && drawFilled) drawFilled(world, view, width, height);
+    else renderer.render(world, view);
     renderTiming.framesDrawn++;
     renderTiming.renderMs += performance.now() - t0;
   }
@@ -411,7 +467,7 @@ async function main() {
     const parts = [source.name];
     if (info.description) parts.push(info.description);
     parts.push(cameras.length ? `${cameras.length} cameras` : 'geometry only');
-    if (textured) parts.push(`weights: ${weights.direction}, k = ${weights.sharpness}`);
+    if (textured) parts.push(`weights: ${weights.blending}, ${weights.direction}, k = ${weights.sharpness}`);
     if (progress) parts.push(progress);
     if (buffering) parts.push('buffering');
     statusLine.textContent = parts.join(' · ');
@@ -556,3 +612,74 @@ async function main() {
 }
 
 main().catch(fail);
+
+// Fallback=fill in the page (src/shaders.js pushFragment): the view is drawn into a frame target,
+// reduced level by level to 1 × 1 and pulled back up; the last pass writes the canvas. Targets
+// follow the canvas size.
+function fillPasses(renderer, flatColour) {
+  const uniforms = {
+    uFine: { value: null }, uCoarse: { value: null }, uFineSize: { value: new THREE.Vector2() },
+    uCoarseSize: { value: new THREE.Vector2() }, uFineIsFrame: { value: false },
+    uFlat: { value: new THREE.Vector3(...flatColour.map((v) => v / 255)) }, uTop: { value: false },
+  };
+  const scenes = [pushFragment, pullFragment, fillFragment].map((fragmentShader) => {
+    const material = new THREE.ShaderMaterial({
+      glslVersion: THREE.GLSL3, vertexShader: convertVertex, fragmentShader, uniforms,
+      depthTest: false, depthWrite: false });
+    const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
+    quad.frustumCulled = false;
+    const scene = new THREE.Scene();
+    scene.add(quad);
+    return scene;
+  });
+  const passCamera = new THREE.Camera();
+  let frame = null, levels = [];  // levels[l - 1]: { size, down, pulled } of level l
+  const target = (w, h, type) => {
+    const t = new THREE.WebGLRenderTarget(w, h, { type, depthBuffer: type === THREE.UnsignedByteType });
+    t.texture.minFilter = t.texture.magFilter = THREE.NearestFilter;
+    t.texture.generateMipmaps = false;
+    return t;
+  };
+  const pass = (scene, output, fine, fineSize, fineIsFrame, coarse, coarseSize, top) => {
+    uniforms.uFine.value = fine.texture;
+    uniforms.uFineSize.value.set(...fineSize);
+    uniforms.uFineIsFrame.value = fineIsFrame;
+    uniforms.uCoarse.value = coarse ? coarse.texture : fine.texture;
+    uniforms.uCoarseSize.value.set(...(coarseSize || fineSize));
+    uniforms.uTop.value = top;
+    renderer.setRenderTarget(output);
+    renderer.render(scene, passCamera);
+  };
+  return (world, view, width, height) => {
+    if (!frame || frame.width !== width || frame.height !== height) {
+      if (frame) frame.dispose();
+      levels.forEach((l) => { l.down.dispose(); l.pulled.dispose(); });
+      frame = target(width, height, THREE.UnsignedByteType);
+      levels = [];
+      for (let w = width, h = height; w > 1 || h > 1;) {
+        w = (w + 1) >> 1, h = (h + 1) >> 1;
+        levels.push({ size: [w, h], down: target(w, h, THREE.FloatType), pulled: target(w, h, THREE.FloatType) });
+      }
+    }
+    renderer.setRenderTarget(frame);
+    renderer.clear(true, true, false);
+    renderer.render(world, view);
+    if (levels.length === 0) {  // a 1 × 1 canvas: nothing to fill from
+      renderer.setRenderTarget(null);
+      renderer.render(world, view);
+      return;
+    }
+    levels.forEach((l, i) => {
+      const finer = i === 0 ? { t: frame, size: [width, height] } : { t: levels[i - 1].down, size: levels[i - 1].size };
+      pass(scenes[0], l.down, finer.t, finer.size, i === 0, null, null, false);
+    });
+    for (let i = levels.length - 1; i >= 0; --i) {
+      const top = i === levels.length - 1;
+      pass(scenes[1], levels[i].pulled, levels[i].down, levels[i].size, false,
+           top ? null : levels[i + 1].pulled, top ? null : levels[i + 1].size, top);
+    }
+    renderer.setRenderTarget(null);
+    renderer.clear(true, true, false);
+    pass(scenes[2], null, frame, [width, height], true, levels[0].pulled, levels[0].size, false);
+  };
+}

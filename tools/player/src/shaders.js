@@ -164,6 +164,69 @@ out vec4 outColour;
 void main() { outColour = vec4(boxRgb(ivec2(gl_FragCoord.xy), ivec2(uSize), uLayer), 1.0); }
 `;
 
+// Blending=ulr's edge distance maps (tools/render/view_renderer.h edgeDistances), per camera
+// from its depth layer (1 / z, 0 = outside the shape) in two passes of one fragment per texel
+// (the viewport at the camera's size; layout as the depth layer's). A texel is an edge texel
+// when it is inside the shape and a 4-neighbour inside the image is outside it or its depth
+// differs by more than EDGE_DEPTH_JUMP (kEdgeDepthJump) times the nearer one's; for inverse
+// depths a and b that is |a − b| > EDGE_DEPTH_JUMP · min(a, b). The exact Euclidean distance to
+// the nearest edge texel, capped at uEdgeWidth, is found separably: pass 1 writes per texel the
+// distance along its row (|dx| ≤ uRadius = ceil(uEdgeWidth), else 1e4), pass 2 the least
+// sqrt(row² + dy²) over |dy| ≤ uRadius.
+const edgeCommon = /* glsl */ `
+precision highp float;
+precision highp int;
+precision highp sampler2DArray;
+uniform int uLayer;
+uniform vec2 uSize;    // the camera's image size
+uniform int uRadius;
+uniform float uEdgeWidth;
+out vec4 outColour;
+`;
+
+export const edgeRowFragment = /* glsl */ `
+${edgeCommon}
+uniform highp sampler2DArray uDepth;
+const float EDGE_DEPTH_JUMP = 0.05;
+float inverseDepthAt(ivec2 p) { return texelFetch(uDepth, ivec3(p, uLayer), 0).r; }
+bool isEdge(ivec2 p) {
+  ivec2 size = ivec2(uSize);
+  if (p.x < 0 || p.y < 0 || p.x >= size.x || p.y >= size.y) return false;
+  float a = inverseDepthAt(p);
+  if (!(a > 0.0)) return false;
+  for (int k = 0; k < 4; ++k) {
+    ivec2 n = p + (k < 2 ? ivec2(2 * k - 1, 0) : ivec2(0, 2 * k - 5));
+    if (n.x < 0 || n.y < 0 || n.x >= size.x || n.y >= size.y) continue;
+    float b = inverseDepthAt(n);
+    if (!(b > 0.0) || abs(a - b) > EDGE_DEPTH_JUMP * min(a, b)) return true;
+  }
+  return false;
+}
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  float row = 1e4;
+  for (int dx = -uRadius; dx <= uRadius; ++dx)
+    if (isEdge(p + ivec2(dx, 0))) row = min(row, float(abs(dx)));
+  outColour = vec4(row, 0.0, 0.0, 1.0);
+}
+`;
+
+export const edgeFragment = /* glsl */ `
+${edgeCommon}
+uniform highp sampler2DArray uRows;  // pass 1
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  float d = uEdgeWidth;
+  for (int dy = -uRadius; dy <= uRadius; ++dy) {
+    int y = p.y + dy;
+    if (y < 0 || y >= int(uSize.y)) continue;
+    float row = texelFetch(uRows, ivec3(p.x, y, uLayer), 0).r;
+    d = min(d, sqrt(row * row + float(dy * dy)));
+  }
+  outColour = vec4(d, 0.0, 0.0, 1.0);
+}
+`;
+
 // The view-dependent blend (MAX_CAMERAS is defined by the material). A camera's texel takes
 // part when it lies in the camera's image and texture box and inside the object's shape there:
 // the pixels the decoded mesh covers in that camera, i.e. where its depth map is not empty
@@ -175,22 +238,30 @@ precision highp sampler2DArray;
 ${cameraCommon}
 uniform highp sampler2DArray uRgb;    // per camera its box's RGB (the conversion pass)
 uniform highp sampler2DArray uDepth;  // per camera 1 / z, layer = camera
+uniform highp sampler2DArray uEdge;   // per camera the edge distance (edgeFragment), ulr only
 uniform int uCount;
 uniform vec3 uViewCentre;
 uniform vec3 uViewAxis;
 uniform int uDirection;               // 0: ray, 1: axis
 uniform float uSharpness;
+uniform int uBlending;                // 0: angle, 1: ulr
+uniform float uResolutionPenalty;
+uniform float uEdgeWidth;
+uniform float uViewFocal;             // the view's fx (pixels)
 uniform float uTolerance;
-uniform int uFallback;                // 0: nearest, 1: colour
+uniform int uFallback;                // 0: nearest, 1: colour, 2: fill
 uniform vec3 uFallbackColour;
 in vec3 vWorld;
 out vec4 outColour;
+const float EDGE_FLOOR = 1e-3;  // kEdgeFloor
 
 void main() {
   vec3 P = vWorld;
   vec3 toView = uDirection == 0 ? normalize(uViewCentre - P) : uViewAxis;
   float s[MAX_CAMERAS];
+  float edge[MAX_CAMERAS];  // ulr: the edge factor e_i
   vec3 colour[MAX_CAMERAS];
+  float viewFootprint = dot(P - uViewCentre, uViewAxis) / uViewFocal;
   int seen = 0;
   float nearestS = 1e30;
   vec3 nearestColour = vec3(0.0);
@@ -205,7 +276,7 @@ void main() {
     ivec2 p0 = ivec2(floor(p));
     vec2 a = p - vec2(p0);
     float hidden = (1.0 + uTolerance) / q.z;  // hidden when 1 / D exceeds this
-    float seenW = 0.0, maskW = 0.0;
+    float seenW = 0.0, maskW = 0.0, edgeD = 0.0;
     vec3 seenC = vec3(0.0), maskC = vec3(0.0);
     for (int k = 0; k < 4; ++k) {
       ivec2 x = p0 + ivec2(k & 1, k >> 1);
@@ -213,7 +284,8 @@ void main() {
       if (b <= 0.0 || x.x < 0 || x.y < 0 || x.x >= int(c.size.x) || x.y >= int(c.size.y)) continue;
       ivec2 inBox = x - c.box.xy;
       if (inBox.x < 0 || inBox.y < 0 || inBox.x >= c.box.z || inBox.y >= c.box.w) continue;
-      float inverseDepth = texelFetch(uDepth, ivec3(x.x, int(c.size.y) - 1 - x.y, i), 0).r;
+      ivec3 at = ivec3(x.x, int(c.size.y) - 1 - x.y, i);
+      float inverseDepth = texelFetch(uDepth, at, 0).r;
       if (!(inverseDepth > 0.0)) continue;  // outside the object's shape in this camera
       vec3 texel = texelFetch(uRgb, ivec3(inBox, i), 0).rgb;
       maskW += b;
@@ -221,12 +293,20 @@ void main() {
       if (inverseDepth > hidden) continue;
       seenW += b;
       seenC += b * texel;
+      if (uBlending == 1 && uEdgeWidth > 0.0) edgeD += b * texelFetch(uEdge, at, 0).r;
     }
     if (maskW <= 0.0) continue;
     vec3 d = uDirection == 0 ? normalize(c.centre - P) : c.axis;
     vec3 e = d - toView;
     float si = 0.5 * dot(e, e);
     if (seenW > 0.0) {
+      if (uBlending == 1) {  // resolution penalty (view_weights.h ulrWeights)
+        float r = q.z / c.intr.x / viewFootprint;
+        si *= 1.0 + uResolutionPenalty * max(0.0, r - 1.0);
+        edge[seen] = uEdgeWidth > 0.0 ? clamp(edgeD / seenW / uEdgeWidth, EDGE_FLOOR, 1.0) : 1.0;
+      } else {
+        edge[seen] = 1.0;
+      }
       s[seen] = si;
       colour[seen] = seenC / seenW;
       ++seen;
@@ -246,15 +326,91 @@ void main() {
       float w;
       if (smallest <= 0.0) w = s[j] <= 0.0 ? 1.0 : 0.0;
       else w = pow(smallest / s[j], 0.5 * uSharpness);
+      w *= edge[j];
       sum += w;
       result += w * colour[j];
     }
     result /= sum;
   } else if (uFallback == 0 && haveNearest) {
     result = nearestColour;
+  } else if (uFallback == 2) {
+    outColour = vec4(0.0, 0.0, 0.0, 0.5);  // filled by the push-pull passes (fillFragment)
+    return;
   } else {
     result = uFallbackColour;
   }
   outColour = vec4(result, 1.0);
+}
+`;
+
+// Fallback=fill (tools/render/view_renderer.cpp fillFromBlended): push-pull over the blended
+// frame. The frame target holds the blend pass's output: alpha 1 where blended, 0.5 where no
+// camera sees the point (to be filled), 0 where the mesh does not cover the pixel. Levels 1, 2,
+// … hold image rows top first (texel row y = image row y); the frame target and the canvas hold
+// GL rows (bottom first), so their row is flipped. A level's weight is its alpha (0 or 1).
+const fillCommon = /* glsl */ `
+precision highp float;
+precision highp int;
+uniform highp sampler2D uFine;    // push: the finer level; pull: the level itself
+uniform highp sampler2D uCoarse;  // pull: the coarser level, already pulled
+uniform ivec2 uFineSize;
+uniform ivec2 uCoarseSize;
+uniform bool uFineIsFrame;        // uFine is the frame target (GL rows, alpha 0.5 = to fill)
+uniform vec3 uFlat;               // no blended pixel at all: the flat colour
+out vec4 outColour;
+
+// Colour and weight (0 or 1) of image pixel p of the fine level.
+vec4 fineAt(ivec2 p) {
+  if (!uFineIsFrame) return texelFetch(uFine, p, 0);
+  vec4 t = texelFetch(uFine, ivec2(p.x, uFineSize.y - 1 - p.y), 0);
+  return t.a > 0.75 ? vec4(t.rgb, 1.0) : vec4(0.0);
+}
+
+// The pulled coarse level, bilinear at fine image pixel p (coarse centres at 2X + 0.5, clamped).
+vec3 coarseAt(ivec2 p) {
+  vec2 c = clamp((vec2(p) - 0.5) / 2.0, vec2(0.0), vec2(uCoarseSize - 1));
+  ivec2 c0 = ivec2(c);
+  ivec2 c1 = min(c0 + 1, uCoarseSize - 1);
+  vec2 a = c - vec2(c0);
+  return mix(mix(texelFetch(uCoarse, c0, 0).rgb, texelFetch(uCoarse, ivec2(c1.x, c0.y), 0).rgb, a.x),
+             mix(texelFetch(uCoarse, ivec2(c0.x, c1.y), 0).rgb, texelFetch(uCoarse, c1, 0).rgb, a.x),
+             a.y);
+}
+`;
+
+// One level coarser: per 2 × 2 block the mean of its pixels of weight 1 (weight 1 if any).
+export const pushFragment = /* glsl */ `
+${fillCommon}
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  vec4 sum = vec4(0.0);
+  for (int k = 0; k < 4; ++k) {
+    ivec2 f = 2 * p + ivec2(k & 1, k >> 1);
+    if (f.x < uFineSize.x && f.y < uFineSize.y) sum += fineAt(f);
+  }
+  outColour = sum.a > 0.0 ? vec4(sum.rgb / sum.a, 1.0) : vec4(0.0);
+}
+`;
+
+// A level filled from the coarser one (the top level: from the flat colour).
+export const pullFragment = /* glsl */ `
+${fillCommon}
+uniform bool uTop;
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  vec4 own = fineAt(p);
+  if (own.a > 0.0) outColour = own;
+  else outColour = vec4(uTop ? uFlat : coarseAt(p), 1.0);
+}
+`;
+
+// Level 0 onto the canvas (GL rows): the frame as drawn, the pixels to fill from level 1.
+export const fillFragment = /* glsl */ `
+${fillCommon}
+void main() {
+  ivec2 g = ivec2(gl_FragCoord.xy);
+  vec4 t = texelFetch(uFine, g, 0);
+  if (t.a > 0.25 && t.a < 0.75) t = vec4(coarseAt(ivec2(g.x, uFineSize.y - 1 - g.y)), 1.0);
+  outColour = t;
 }
 `;
