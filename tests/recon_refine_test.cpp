@@ -31,6 +31,21 @@ double meanReprojectionGap(const std::vector<Vec3d>& points, const Camera& a, co
   return n > 0 ? sum / double(n) : 1e9;
 }
 
+// Turns `camera` by about 1.5 degrees and moves its centre by 3 % of its distance to `middle`.
+void perturb(Camera& camera, const Vec3d& middle) {
+  const Vec3d centre = camera.centre();
+  camera.R = rotationFromRodrigues({0.015, -0.02, 0.01}) * camera.R;
+  const Vec3d shifted = centre + 0.03 * norm(centre - middle) * normalized(Vec3d{1, 0.5, -0.3});
+  const Vec3d rc = camera.R * shifted;
+  camera.t = {-rc[0], -rc[1], -rc[2]};
+}
+
+Vec3d boxCentre(const Mesh& mesh) {
+  BoundingBox box;
+  box.extend(mesh.positions);
+  return 0.5 * (box.lo + box.hi);
+}
+
 }  // namespace
 
 TEST(ReconRefine, NelderMeadFindsTheMinimumOfAQuadratic) {
@@ -92,14 +107,9 @@ TEST(ReconRefine, PerturbedCameraIsPulledBackTowardItsTruePose) {
   const std::vector<Camera> trueCameras = cameras;
   BoundingBox box;
   box.extend(truth.positions);
-  const Vec3d middle = 0.5 * (box.lo + box.hi);
+  const Vec3d middle = boxCentre(truth);
   const size_t moved = 2;
-  Camera& c = cameras[moved];
-  const Vec3d centre = c.centre();
-  c.R = rotationFromRodrigues({0.015, -0.02, 0.01}) * c.R;
-  const Vec3d shifted = centre + 0.03 * norm(centre - middle) * normalized(Vec3d{1, 0.5, -0.3});
-  const Vec3d rc = c.R * shifted;
-  c.t = {-rc[0], -rc[1], -rc[2]};
+  perturb(cameras[moved], middle);
   const double before = meanReprojectionGap(truth.positions, cameras[moved], trueCameras[moved]);
 
   CalibrationRefinementOptions options;
@@ -120,6 +130,44 @@ TEST(ReconRefine, PerturbedCameraIsPulledBackTowardItsTruePose) {
     if (k == moved) continue;
     EXPECT_LT(meanReprojectionGap(truth.positions, cameras[k], trueCameras[k]), 0.5 * before);
   }
+}
+
+// The app's path: a dataset whose camera 2 is off; Output/dataset.json holds it corrected, and
+// the reported IoU rises against a run without the refinement.
+TEST(ReconRefine, RefinedCamerasAreWrittenToTheOutputDataset) {
+  test::TempDir dir("recon-calib-app");
+  SynthParams rig;
+  rig.output = dir.file("synth");
+  rig.frameCount = 1;
+  Dataset dataset = writeSyntheticDataset(rig);
+  const Mesh truth = readDatasetMesh(dataset, 0);
+  const Camera trueCamera = dataset.cameras[2].camera;
+  perturb(dataset.cameras[2].camera, boxCentre(truth));
+  writeDataset(dataset, rig.output);
+  ReconParams params;
+  params.input = rig.output;
+  params.octreeDepth = 6;
+  params.decimationFaces = 0;
+  params.output = dir.file("plain");
+  const ReconResult plain = runReconstruction(params, nullptr);
+  params.refineCalibration = true;
+  params.calibration.rounds = 1;
+  params.output = dir.file("refined");
+  const ReconResult refined = runReconstruction(params, nullptr);
+  const Dataset written = readDataset(params.output);
+  ASSERT_EQ(written.cameras.size(), dataset.cameras.size());
+  const double before = meanReprojectionGap(truth.positions, dataset.cameras[2].camera, trueCamera);
+  const double after = meanReprojectionGap(truth.positions, written.cameras[2].camera, trueCamera);
+  std::printf(
+      "written camera 2: gap %.2f px -> %.2f px; IoU mean %.4f -> %.4f, worst %.4f -> "
+      "%.4f\n",
+      before, after, plain.frames[0].iouMean, refined.frames[0].iouMean, plain.frames[0].iouMin,
+      refined.frames[0].iouMin);
+  EXPECT_LT(after, 0.4 * before);
+  EXPECT_GT(refined.frames[0].iouMin, plain.frames[0].iouMin);
+  // The images and masks are still found from the new place of dataset.json.
+  CameraFrames frames(written, 2);
+  EXPECT_FALSE(frames.frame(0).empty());
 }
 
 TEST(ReconRefine, RefineCalibrationNeedsTwoCameras) {
