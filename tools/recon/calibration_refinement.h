@@ -28,8 +28,8 @@ struct CalibrationRefinementOptions {
   int evaluations = 150;          // objective evaluations per camera and pass
   double rotationStep = 0.5;      // first simplex size: degrees
   double translationStep = 0.01;  // first simplex size: fraction of the distance to the hull
-  double maxRotation = 5;         // largest rotation from the input pose (degrees)
-  double maxTranslation = 0.1;    // largest centre move (fraction of the distance to the hull)
+  double maxRotation = 2;         // largest rotation from the input pose (degrees)
+  double maxTranslation = 0.04;   // largest centre move (fraction of the distance to the hull)
   bool focal = false;             // also refine the focal length (fx and fy by one factor)
   double maxFocalChange = 0.1;    // largest relative focal length change
   HullOptions hull;               // minViews (capped at cameras − 1 for the search) and clip box
