@@ -87,6 +87,38 @@ void addReconOptions(OptionTable& table, ReconParams& p) {
   table.add("KeepLargestComponent", p.keepLargestComponent,
             "keep only the largest connected part of the surface");
 
+  table.section("Calibration refinement");
+  table.add("RefineCalibration", p.refineCalibration,
+            "refine the camera poses on the first frame so that each silhouette agrees with the "
+            "hull of the other cameras; writes the refined cameras to Output/dataset.json");
+  table.add("RefineCalibrationDepth", p.calibration.depth, 3, 9,
+            "octree depth of the hulls carved during the search");
+  table.add("RefineCalibrationRounds", p.calibration.rounds, 1, 20, "passes over the cameras");
+  table.add("RefineCalibrationEvaluations", p.calibration.evaluations, 10, 100000,
+            "IoU evaluations per camera and pass (Nelder-Mead)");
+  table.add("RefineMaxRotation", p.calibration.maxRotation, 0, 45,
+            "largest rotation of a camera from its input pose (degrees)");
+  table.add("RefineMaxTranslation", p.calibration.maxTranslation, 0, 1,
+            "largest move of a camera centre (fraction of its distance to the object)");
+  table.add("RefineFocal", p.calibration.focal, "also refine each camera's focal length");
+  table.add("RefineMaxFocalChange", p.calibration.maxFocalChange, 0, 0.5,
+            "largest relative change of a focal length");
+
+  table.section("Photo-consistency refinement");
+  table.add("PhotoRefine", p.photoRefine,
+            "move each surface vertex along its normal to the most colour-consistent depth among "
+            "the cameras that see it (never outside the hull)");
+  table.add("PhotoRefineIterations", p.photo.iterations, 1, 100, "search + regularisation rounds");
+  table.add("PhotoRefineInward", p.photo.inward, 0, 100,
+            "search range inwards along the normal (voxels)");
+  table.add("PhotoRefineOutward", p.photo.outward, 0, 100,
+            "search range outwards along the normal (voxels; the hull still bounds it)");
+  table.add("PhotoRefineStep", p.photo.step, 0.05, 10, "search step (voxels)");
+  table.add("PhotoRefineMinScore", p.photo.minScore, -1, 1,
+            "least mean NCC of the best depth for a vertex to move");
+  table.add("PhotoRefineSmoothing", p.photo.smoothing, 0, 1000,
+            "Laplacian smoothing iterations of the displacements");
+
   table.section("Surface");
   table.add("SmoothingIterations", p.smoothingIterations, 0, 1000,
             "umbrella (Laplacian) smoothing iterations");

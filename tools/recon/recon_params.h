@@ -4,6 +4,8 @@
 #include <string>
 
 #include "common/core/config.h"
+#include "tools/recon/calibration_refinement.h"
+#include "tools/recon/photo_refinement.h"
 #include "tools/recon/silhouettes.h"
 #include "tools/recon/surface_processing.h"
 #include "tools/recon/tracking.h"
@@ -39,6 +41,14 @@ struct ReconParams {
   std::string volumeMin, volumeMax;  // capture box corners "x,y,z"; empty: estimated
   double volumeMargin = 0.1;         // estimated cube: margin around the hull (× its extent)
   bool keepLargestComponent = true;
+
+  // Calibration refinement (calibration_refinement.h), on the first frame.
+  bool refineCalibration = false;
+  CalibrationRefinementOptions calibration;
+
+  // Photo-consistency refinement of each frame's surface (photo_refinement.h).
+  bool photoRefine = false;
+  PhotoRefineOptions photo;
 
   // Surface.
   int smoothingIterations = 3;

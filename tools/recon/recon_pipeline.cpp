@@ -45,18 +45,18 @@ const char* kColumns =
     "frame,source,gom,type,silhouette_s,carving_s,surface_s,smoothing_s,decimation_s,"
     "tracking_s,metrics_s,total_s,octree_cells,surface_voxels,hull_triangles,components,"
     "vertices,triangles,voxel,hull_volume,iou_mean,iou_min,fit_hausdorff,fit_mean,diagonal,"
-    "truth_mean,truth_hausdorff,truth_diagonal";
+    "truth_mean,truth_hausdorff,truth_diagonal,photo_s,photo_targets,photo_displacement";
 
 std::string csvRow(const FrameRecord& r) {
   return format(
       "%d,%d,%d,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%zu,%zu,%zu,%zu,%zu,%zu,%.6g,%.6g,"
-      "%.5f,%.5f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g",
+      "%.5f,%.5f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.4f,%zu,%.4g",
       r.frame, r.source, r.gom, r.iMesh ? (r.rejectedFit ? "I*" : "I") : "P", r.silhouetteSeconds,
       r.carvingSeconds, r.surfaceSeconds, r.smoothingSeconds, r.decimationSeconds,
       r.trackingSeconds, r.metricSeconds, r.totalSeconds, r.cellsJudged, r.surfaceVoxels,
       r.hullTriangles, r.components, r.vertices, r.triangles, r.voxelSize, r.hullVolume, r.iouMean,
       r.iouMin, r.fitHausdorff, r.fitMean, r.diagonal, r.truthMean, r.truthHausdorff,
-      r.truthDiagonal);
+      r.truthDiagonal, r.photoSeconds, r.photoTargets, r.photoDisplacement);
 }
 
 std::string encoderCfg(const std::string& pattern, int first, int count, double rate, int gomSize,
@@ -90,6 +90,7 @@ struct Summary {
 std::string reportText(const ReconParams& params, const ReconResult& result,
                        const std::string& inputText, const std::string& cameraText) {
   std::string t = "# 3dvo-recon report\n";
+  if (!result.calibrationText.empty()) t += result.calibrationText;
   t += "input          : " + inputText + "\n";
   if (!cameraText.empty()) t += "cameras        : " + cameraText + "\n";
   if (params.inputMeshPattern.empty()) t += format("octree depth   : %d\n", params.octreeDepth);
@@ -98,7 +99,7 @@ std::string reportText(const ReconParams& params, const ReconResult& result,
   for (const auto& g : result.goms)
     lengths += (lengths.empty() ? "" : " ") + std::to_string(g.second);
   t += format("GOMs           : %zu (frames per GOM: %s)\n", result.goms.size(), lengths.c_str());
-  Summary total, sil, carve, surf, smooth, decim, track, metric, iou, iouMin, volume, fitRel,
+  Summary total, sil, carve, surf, smooth, photo, decim, track, metric, iou, iouMin, volume, fitRel,
       fitMean, truthMean, truthH, vertices, triangles;
   for (const FrameRecord& r : result.frames) {
     total.add(r.totalSeconds);
@@ -106,6 +107,7 @@ std::string reportText(const ReconParams& params, const ReconResult& result,
     carve.add(r.carvingSeconds);
     surf.add(r.surfaceSeconds);
     smooth.add(r.smoothingSeconds);
+    photo.add(r.photoSeconds);
     decim.add(r.decimationSeconds);
     track.add(r.trackingSeconds);
     metric.add(r.metricSeconds);
@@ -123,8 +125,8 @@ std::string reportText(const ReconParams& params, const ReconResult& result,
   t += "time per frame : " + total.text("%.3f s") + "\n";
   const std::pair<const char*, const Summary*> stages[] = {
       {"  silhouettes  : ", &sil},    {"  carving      : ", &carve}, {"  surface      : ", &surf},
-      {"  smoothing    : ", &smooth}, {"  decimation   : ", &decim}, {"  tracking     : ", &track},
-      {"  metrics      : ", &metric}};
+      {"  smoothing    : ", &smooth}, {"  photo refine : ", &photo}, {"  decimation   : ", &decim},
+      {"  tracking     : ", &track},  {"  metrics      : ", &metric}};
   for (const auto& [label, stage] : stages)
     if (stage->max > 0) t += label + stage->text("%.3f s") + "\n";
   t += "vertices       : " + vertices.text("%.0f") + "\n";
@@ -209,6 +211,24 @@ ReconResult runReconstruction(const ReconParams& params, std::FILE* log) {
                                         ? std::string()
                                         : framePath(params.inputMeshPattern, params.firstFrame)});
 
+  if (reconstructor && params.refineCalibration) {
+    const CalibrationRefinementResult r =
+        reconstructor->refineCalibration(params.firstFrame, *dataset);
+    std::string t = format(
+        "calibration    : refined on frame %d in %.1f s, %d pass(es) kept; hull of all cameras "
+        "vs silhouettes, mean IoU %.4f -> %.4f\n",
+        params.firstFrame, r.seconds, r.passesKept, r.meanIouBefore, r.meanIouAfter);
+    for (const CameraRefinement& c : r.cameras)
+      t += format(
+          "  %-14s IoU with the others' hull %.4f -> %.4f, rotated %.3f deg, moved %.4g, "
+          "focal x %.4f\n",
+          c.name.c_str(), c.iouBefore, c.iouAfter, c.rotationDegrees, c.translation, c.focalFactor);
+    result.calibrationText = t;
+    if (log) std::fputs(t.c_str(), log);
+    // The refined cameras, for 3dvo-enc --Dataset and 3dvo-render.
+    files.write(out + "/" + kDatasetFileName, formatDataset(*dataset, out));
+  }
+
   GomBuilder builder(params);
   Progress progress("3dvo-recon: frame", static_cast<size_t>(frameCount));
   for (int i = 0; i < frameCount; ++i) {
@@ -224,6 +244,11 @@ ReconResult runReconstruction(const ReconParams& params, std::FILE* log) {
       record.carvingSeconds = recon.stats.carvingSeconds;
       record.surfaceSeconds = recon.stats.surfaceSeconds;
       record.smoothingSeconds = recon.smoothingSeconds;
+      if (recon.photoRefined) {
+        record.photoSeconds = recon.photo.seconds;
+        record.photoTargets = recon.photo.targets;
+        record.photoDisplacement = recon.photo.meanDisplacement;
+      }
       record.cellsJudged = recon.stats.cellsJudged;
       record.surfaceVoxels = recon.stats.surfaceVoxels;
       record.hullTriangles = recon.hull.triangles.size();

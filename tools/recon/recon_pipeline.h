@@ -44,6 +44,10 @@ struct FrameRecord {
   double fitHausdorff = 0, fitMean = 0, diagonal = 0;
   // Distance to the dataset's ground-truth mesh, when it has one.
   double truthMean = -1, truthHausdorff = -1, truthDiagonal = -1;
+  // PhotoRefine: seconds, vertices given a target, mean |displacement| (voxels).
+  double photoSeconds = 0;
+  size_t photoTargets = 0;
+  double photoDisplacement = 0;
 };
 
 struct ReconResult {
@@ -51,6 +55,7 @@ struct ReconResult {
   GomList goms;                          // (first output frame, count)
   std::vector<std::string> cameras;      // used camera names
   std::vector<std::vector<double>> iou;  // per frame, per used camera
+  std::string calibrationText;           // RefineCalibration's report lines
 };
 
 // Runs the reconstruction with `params` (checked first), printing one line per frame and a

@@ -154,30 +154,34 @@ std::string FrameReconstructor::silhouetteMethodName(size_t usedCamera) const {
   }
 }
 
-Image FrameReconstructor::silhouette(size_t usedCamera, int frame) {
+Image FrameReconstructor::silhouette(size_t usedCamera, int frame, Image* image) {
   CameraState& s = *states_[usedCamera];
+  Image own;
+  Image& picture = image ? *image : own;
   switch (s.method) {
     case SilhouetteMethod::masks:
     case SilhouetteMethod::alpha:
+      if (image) *image = s.frames.frame(frame);
       return s.frames.mask(frame);
     case SilhouetteMethod::background:
-      return s.segmenter->segment(s.frames.frame(frame));
+      picture = s.frames.frame(frame);
+      return s.segmenter->segment(picture);
     default:
-      return thresholdSilhouette(s.frames.frame(frame), params_.threshold);
+      picture = s.frames.frame(frame);
+      return thresholdSilhouette(picture, params_.threshold);
   }
 }
 
-ReconstructedFrame FrameReconstructor::reconstruct(int frame) {
-  ReconstructedFrame out;
-  auto start = std::chrono::steady_clock::now();
+std::vector<CarvingView> FrameReconstructor::carvingViews(
+    const std::vector<Image>& silhouettes) const {
   std::vector<CarvingView> views;
   views.reserve(cameras_.size());
-  for (size_t u = 0; u < cameras_.size(); ++u) {
-    out.silhouettes.push_back(silhouette(u, frame));
-    views.emplace_back(states_[u]->canvas, out.silhouettes.back());
-  }
-  out.silhouetteSeconds = secondsSince(start);
+  for (size_t u = 0; u < cameras_.size(); ++u)
+    views.emplace_back(states_[u]->canvas, silhouettes[u]);
+  return views;
+}
 
+HullOptions FrameReconstructor::hullOptions() const {
   HullOptions options;
   options.depth = params_.octreeDepth;
   options.minViews = minViews_;
@@ -186,6 +190,50 @@ ReconstructedFrame FrameReconstructor::reconstruct(int frame) {
     options.clipLo = clipLo_;
     options.clipHi = clipHi_;
   }
+  return options;
+}
+
+CalibrationRefinementResult FrameReconstructor::refineCalibration(int frame, Dataset& dataset) {
+  check(&dataset == &dataset_, "refineCalibration: not the reconstructor's dataset");
+  keptFrame_ = frame;
+  keptSilhouettes_.clear();
+  keptImages_.assign(cameras_.size(), Image());
+  for (size_t u = 0; u < cameras_.size(); ++u)
+    keptSilhouettes_.push_back(silhouette(u, frame, &keptImages_[u]));
+  const std::vector<CarvingView> views = carvingViews(keptSilhouettes_);
+  const HullOptions options = hullOptions();
+  const CaptureCube cube = estimateCaptureCube(views, options, params_.volumeMargin);
+  std::vector<Camera> cameras;
+  for (size_t c : cameras_)
+    cameras.push_back(dataset.cameras[c].camera);
+  CalibrationRefinementOptions refine = params_.calibration;
+  refine.hull = options;
+  const CalibrationRefinementResult result =
+      tdvo::refineCalibration(cameras, keptSilhouettes_, cube, refine);
+  for (size_t u = 0; u < cameras_.size(); ++u) {
+    dataset.cameras[cameras_[u]].camera = cameras[u];
+    states_[u]->canvas = CanvasMap::build(cameras[u]);
+  }
+  haveCube_ = false;
+  return result;
+}
+
+ReconstructedFrame FrameReconstructor::reconstruct(int frame) {
+  ReconstructedFrame out;
+  auto start = std::chrono::steady_clock::now();
+  std::vector<Image> images(cameras_.size());
+  if (frame == keptFrame_) {
+    out.silhouettes = std::move(keptSilhouettes_);
+    images = std::move(keptImages_);
+    keptFrame_ = -1;
+  } else {
+    for (size_t u = 0; u < cameras_.size(); ++u)
+      out.silhouettes.push_back(silhouette(u, frame, params_.photoRefine ? &images[u] : nullptr));
+  }
+  const std::vector<CarvingView> views = carvingViews(out.silhouettes);
+  out.silhouetteSeconds = secondsSince(start);
+
+  const HullOptions options = hullOptions();
   if (!haveCube_) {
     cube_ = estimateCaptureCube(views, options, params_.volumeMargin);
     haveCube_ = true;
@@ -213,6 +261,14 @@ ReconstructedFrame FrameReconstructor::reconstruct(int frame) {
   smoothing.maxDisplacement = params_.smoothingMaxDisplacement * out.stats.voxelSize;
   smoothMesh(out.surface, smoothing);
   out.smoothingSeconds = secondsSince(start);
+  if (params_.photoRefine) {
+    std::vector<Camera> cameras;
+    for (size_t c : cameras_)
+      cameras.push_back(dataset_.cameras[c].camera);
+    out.photo =
+        photoRefine(out.surface, cameras, images, views, out.stats.voxelSize, params_.photo);
+    out.photoRefined = true;
+  }
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/media/dataset.h"
+#include "tools/recon/photo_refinement.h"
 #include "tools/recon/recon_params.h"
 #include "tools/recon/visual_hull.h"
 
@@ -21,6 +22,8 @@ struct ReconstructedFrame {
   HullResult stats;                // counts and carving/surface times (stats.surface empty)
   size_t components = 0;           // connected parts of the hull mesh
   double silhouetteSeconds = 0, smoothingSeconds = 0;
+  bool photoRefined = false;  // PhotoRefine ran (photo holds its figures)
+  PhotoRefineStats photo;
 };
 
 class FrameReconstructor {
@@ -40,8 +43,17 @@ class FrameReconstructor {
   std::string silhouetteMethodName(size_t usedCamera) const;
   int minViews() const { return minViews_; }
 
+  // RefineCalibration: refines the used cameras' poses on dataset frame index `frame`
+  // (calibration_refinement.h) and stores them in `dataset` (the dataset this reconstructor
+  // reads); the capture cube is found again with them. The frame's silhouettes are kept for
+  // the next reconstruct(frame).
+  CalibrationRefinementResult refineCalibration(int frame, Dataset& dataset);
+
  private:
-  Image silhouette(size_t usedCamera, int frame);
+  // The silhouette of one used camera; `image` (if not null) gets the camera image.
+  Image silhouette(size_t usedCamera, int frame, Image* image);
+  std::vector<CarvingView> carvingViews(const std::vector<Image>& silhouettes) const;
+  HullOptions hullOptions() const;
 
   struct CameraState;
   const Dataset& dataset_;
@@ -52,6 +64,8 @@ class FrameReconstructor {
   bool clipBox_ = false;  // VolumeMin/VolumeMax given
   bool haveCube_ = false;
   CaptureCube cube_;
+  int keptFrame_ = -1;  // frame whose silhouettes and images are kept (refineCalibration)
+  std::vector<Image> keptSilhouettes_, keptImages_;
   Vec3d clipLo_ = {0, 0, 0}, clipHi_ = {0, 0, 0};  // VolumeMin, VolumeMax
 };
 
