@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "common/core/error.h"
 #include "common/media/dataset.h"
@@ -168,6 +171,18 @@ TEST(ReconRefine, RefinedCamerasAreWrittenToTheOutputDataset) {
   // The images and masks are still found from the new place of dataset.json.
   CameraFrames frames(written, 2);
   EXPECT_FALSE(frames.frame(0).empty());
+  // The encoder is pointed at the refined cameras (its texture shapes are the mesh projected into
+  // them); without the refinement it is left to the user's --Dataset.
+  auto text = [](const std::string& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string datasetLine =
+      "Dataset          : " +
+      std::filesystem::absolute(std::filesystem::path(params.output) / "dataset.json").string();
+  EXPECT_NE(text(params.output + "/encode.cfg").find(datasetLine), std::string::npos);
+  EXPECT_NE(text(params.output + "/encode/gom_0000.cfg").find(datasetLine), std::string::npos);
+  EXPECT_EQ(text(dir.file("plain") + "/encode.cfg").find("Dataset"), std::string::npos);
 }
 
 TEST(ReconRefine, RefineCalibrationNeedsTwoCameras) {

@@ -59,10 +59,13 @@ std::string csvRow(const FrameRecord& r) {
       r.truthDiagonal, r.photoSeconds, r.photoTargets, r.photoDisplacement);
 }
 
+// `dataset` (empty: none) is the refined cameras' dataset.json, which the encoder must then take
+// instead of the input's (its shapes are the mesh projected into these cameras).
 std::string encoderCfg(const std::string& pattern, int first, int count, double rate, int gomSize,
-                       const std::string& comment) {
+                       const std::string& comment, const std::string& dataset) {
   std::string text = comment;
   text += "InputMeshPattern : " + pattern + "\n";
+  if (!dataset.empty()) text += "Dataset          : " + dataset + "\n";
   text += format("FirstFrame       : %d\n", first);
   text += format("FrameCount       : %d\n", count);
   text += format("FrameRate        : %.17g\n", rate);
@@ -344,14 +347,18 @@ ReconResult runReconstruction(const ReconParams& params, std::FILE* log) {
       "#   3dvo-enc -c cfg/d3dmc-lossless.cfg -c encode.cfg --BitstreamFile=out.3dvo\n";
   // GOMs of different lengths: the encoder takes the list itself (GOMListFile).
   const std::string gomList = fs::absolute(fs::path(out) / "goms.txt").string();
+  const std::string refined = reconstructor && params.refineCalibration
+                                  ? fs::absolute(fs::path(out) / kDatasetFileName).string()
+                                  : std::string();
   files.write(out + "/encode.cfg", encoderCfg(pattern, firstNumber, frameCount, frameRate,
-                                              uniform ? commonSize : 0, header) +
+                                              uniform ? commonSize : 0, header, refined) +
                                        (uniform ? "" : "GOMListFile      : " + gomList + "\n"));
   for (size_t g = 0; g < result.goms.size(); ++g)
-    files.write(out + "/encode/" + framePath("gom_%04d.cfg", static_cast<int>(g)),
-                encoderCfg(pattern, firstNumber + result.goms[g].first, result.goms[g].second,
-                           frameRate, result.goms[g].second,
-                           format("# 3dvo-enc input for GOM %zu of this 3dvo-recon output\n", g)));
+    files.write(
+        out + "/encode/" + framePath("gom_%04d.cfg", static_cast<int>(g)),
+        encoderCfg(pattern, firstNumber + result.goms[g].first, result.goms[g].second, frameRate,
+                   result.goms[g].second,
+                   format("# 3dvo-enc input for GOM %zu of this 3dvo-recon output\n", g), refined));
   std::string csv = std::string(kColumns) + "\n";
   for (const FrameRecord& r : result.frames)
     csv += csvRow(r) + "\n";
