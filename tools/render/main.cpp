@@ -62,7 +62,7 @@ struct Params {
           "given as Input; empty: Input's own");
     t.section("Mode");
     t.addEnum("Mode", mode, {{"render", Mode::render}, {"leave-one-out", Mode::leaveOneOut}},
-              "render a camera path; leave-one-out PSNR per camera");
+              "render a camera path; leave-one-out PSNR and SSIM per camera");
     t.section("Weights and visibility");
     t.addEnum("ViewDirection", render.direction,
               {{"axis", ViewDirection::axis}, {"ray", ViewDirection::ray}},

@@ -161,6 +161,7 @@ reconstruct() {
     recon "$1-after" "$2" "$3" "$4" "$AFTER_RECON_ARGS"
   else
     ln -s "$work/$1-before" "$work/$1-after"
+    ln -s "$work/$1-before-recon" "$work/$1-after-recon"
     ln -s "$work/$1-before-recon.log" "$work/$1-after-recon.log"
   fi
 }
