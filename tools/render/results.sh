@@ -2,9 +2,10 @@
 # Rendering quality by leaving one camera out (3dvo-render --Mode=leave-one-out): PSNR and SSIM
 # inside the held-out camera's mask on the synthetic rig, nerf-lego and uu-4cam, each measured
 # with a BEFORE and an AFTER configuration (below) and, for AFTER, again with the textures coded
-# at the encoder's default TextureQP; writes docs/results-rendering.md. 9 to 13 minutes on
-# 2 cores shared with other jobs with the four *_ARGS empty (AFTER is then BEFORE and is
-# measured once); about 20 minutes when both render and recon arguments differ.
+# at the encoder's default TextureQP; writes docs/results-rendering.md. Run time on 2 cores
+# shared with other jobs: 9 and 12.5 minutes with the four *_ARGS empty (AFTER is then BEFORE,
+# measured once), 7.7 minutes with all four set (the load made the difference, not the
+# arguments); allow 15 minutes.
 #
 #   tools/render/results.sh [BUILD_DIR]          (default: build)
 #   AFTER_RENDER_ARGS=--Blending=ulr tools/render/results.sh      (any variable below, likewise)
