@@ -3,12 +3,14 @@
 // 3dvo-render app.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
 #include <limits>
 
 #include "common/core/error.h"
+#include "common/core/file_io.h"
 #include "common/core/obj_io.h"
 #include "common/media/png_io.h"
 #include "common/media/video_reader.h"
@@ -17,6 +19,7 @@
 #include "tools/multiview/synth_rig.h"
 #include "tools/render/camera_path.h"
 #include "tools/render/leave_one_out.h"
+#include "tools/render/masked_ssim.h"
 #include "tools/render/mp4_writer.h"
 #include "tools/render/view_renderer.h"
 
@@ -99,6 +102,20 @@ TEST_F(SynthRig, LeaveOneOutUsesOnlyTheOtherCameras) {
   EXPECT_EQ(test::lines(formatLeaveOneOutCsv(rows)).size(), 10u);  // header, 8 cameras, all
 }
 
+TEST_F(SynthRig, LeaveOneOutCountsEveryFallbackTheSame) {
+  // The pixels no other camera sees are the same whatever colours them: `fill` (the default)
+  // counts as many as `nearest` and `colour` together.
+  RenderOptions fill, nearest;
+  nearest.fallback = Fallback::nearest;
+  size_t filled = 0, near = 0;
+  for (const LeaveOneOutRow& r : leaveOneOut(*dataset_, {0}, fill))
+    filled += r.fallbackPixels;
+  for (const LeaveOneOutRow& r : leaveOneOut(*dataset_, {0}, nearest))
+    near += r.fallbackPixels;
+  EXPECT_GT(near, 0u);
+  EXPECT_EQ(filled, near);
+}
+
 TEST_F(SynthRig, UlrBlendingBeatsAngleBlendingLeavingOneOut) {
   // Over 3dvo-synth's 10 frames: angle 32.33 dB, ulr 33.65 dB pooled (docs/rendering.md,
   // "Blending"); here frame 0 only.
@@ -179,6 +196,105 @@ TEST_F(SynthRig, FillFallbackColoursUnseenPixelsFromTheBlendedOnesAndCountsThem)
     }
   EXPECT_EQ(filled, stats.fallbackFill);
   EXPECT_LT(grey, filled / 10);
+}
+
+namespace {
+
+// A 64 × 48 RGB test card: smooth gradients plus a checkerboard, so windows have variance.
+Image testCard() {
+  Image image(64, 48, 3);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        image.at(x, y, c) = static_cast<uint8_t>(
+            (3 * x + 2 * y + 40 * c + (((x / 4) + (y / 4)) % 2 ? 60 : 0)) % 256);
+  return image;
+}
+
+}  // namespace
+
+TEST(MaskedSsim, IdenticalIsOnePerturbedIsLowerOutsideTheMaskIgnored) {
+  const Image card = testCard();
+  Image mask(card.width, card.height, 1);
+  for (int y = 8; y < 40; ++y)
+    for (int x = 10; x < 50; ++x)
+      mask.at(x, y) = 255;
+  const SsimSum same = maskedSsim(card, card, mask);
+  EXPECT_EQ(same.count, 40u * 32u);
+  EXPECT_NEAR(same.mean(), 1.0, 1e-12);
+
+  // Noise inside the mask lowers it; more noise lowers it more.
+  Image noisy = card, noisier = card;
+  for (size_t i = 0; i < card.pixels.size(); ++i) {
+    const int n = static_cast<int>((i * 2654435761u) % 21) - 10;  // -10 .. 10
+    noisy.pixels[i] = static_cast<uint8_t>(std::clamp(int(card.pixels[i]) + n, 0, 255));
+    noisier.pixels[i] = static_cast<uint8_t>(std::clamp(int(card.pixels[i]) + 4 * n, 0, 255));
+  }
+  const double a = maskedSsim(noisy, card, mask).mean(), b = maskedSsim(noisier, card, mask).mean();
+  EXPECT_LT(a, 0.99);
+  EXPECT_GT(a, 0.3);
+  EXPECT_LT(b, a);
+  // A brightness offset lowers only the luminance term.
+  Image brighter = card;
+  for (uint8_t& v : brighter.pixels)
+    v = static_cast<uint8_t>(std::min(255, v + 30));
+  EXPECT_LT(maskedSsim(brighter, card, mask).mean(), 0.999);
+
+  // Whatever lies outside the mask, in either image, changes nothing: not even at the mask's
+  // edge, whose windows reach outside.
+  Image test = card, reference = card;
+  for (int y = 0; y < card.height; ++y)
+    for (int x = 0; x < card.width; ++x)
+      if (mask.at(x, y) == 0)
+        for (int c = 0; c < 3; ++c) {
+          test.at(x, y, c) = 0;
+          reference.at(x, y, c) = static_cast<uint8_t>(255 - card.at(x, y, c));
+        }
+  EXPECT_NEAR(maskedSsim(test, reference, mask).mean(), 1.0, 1e-12);
+  EXPECT_NEAR(maskedSsim(noisy, reference, mask).mean(), a, 1e-12);
+
+  // Sums pool: two images count as the pixel-weighted mean.
+  SsimSum pooled = maskedSsim(noisy, card, mask);
+  pooled += same;
+  EXPECT_NEAR(pooled.mean(), (a + 1) / 2, 1e-12);
+  EXPECT_TRUE(std::isnan(maskedSsim(card, card, Image(card.width, card.height, 1)).mean()));
+  EXPECT_THROW(maskedSsim(card, Image(8, 8, 3), mask), Error);
+}
+
+TEST_F(SynthRig, LeaveOneOutAgainstAReferenceDataset) {
+  // The input's images replaced by flat grey (as a badly coded texture would be), the reference
+  // the original: the held-out renders are grey, so PSNR and SSIM fall; against itself the
+  // grey dataset would look perfect at the own pose.
+  test::TempDir dir("reference");
+  Dataset grey = *dataset_;
+  grey.frameCount = 1;
+  for (DatasetCamera& c : grey.cameras) {
+    const Image image(c.camera.width, c.camera.height, 3, 128);
+    const std::vector<uint8_t> png = encodePng(image);
+    fs::create_directories(dir.path() / c.camera.name);
+    writeFileAtomic(dir.file(c.camera.name + "/grey.png"), png.data(), png.size());
+    c.images = dir.file(c.camera.name + "/grey.png");
+    c.masks = dataset_->resolve(c.masks);
+    c.background.clear();
+  }
+  grey.meshes = dataset_->resolve(grey.meshes);
+  grey.folder = dir.path().string();
+  const std::vector<LeaveOneOutRow> own = leaveOneOut(grey, {0}, RenderOptions());
+  const std::vector<LeaveOneOutRow> rows =
+      leaveOneOut(grey, {0}, RenderOptions(), "", false, {}, dataset_);
+  const std::vector<LeaveOneOutRow> original = leaveOneOut(*dataset_, {0}, RenderOptions());
+  ASSERT_EQ(rows.size(), 8u);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_TRUE(std::isinf(own[i].heldOut.psnr())) << own[i].camera;
+    EXPECT_EQ(rows[i].maskPixels, original[i].maskPixels);
+    EXPECT_LT(rows[i].heldOut.psnr(), original[i].heldOut.psnr() - 5) << rows[i].camera;
+    EXPECT_LT(rows[i].heldOutSsim.mean(), original[i].heldOutSsim.mean()) << rows[i].camera;
+    EXPECT_GT(original[i].heldOutSsim.mean(), 0.8) << rows[i].camera;
+  }
+  // A reference without a frame of that number is refused.
+  Dataset later = *dataset_;
+  later.firstFrame = 5;
+  EXPECT_THROW(leaveOneOut(grey, {0}, RenderOptions(), "", false, {}, &later), Error);
 }
 
 TEST(Renderer, HiddenPointsTakeNoColourFromTheCameraThatCannotSeeThem) {
@@ -532,6 +648,13 @@ TEST_F(SynthRig, AppRendersOrbitsLeaveOneOutAndReportsBadInput) {
   EXPECT_NE(r.out.find("| cam04 |"), std::string::npos);
   EXPECT_EQ(r.out.find("cam03"), std::string::npos);
   EXPECT_EQ(test::lines(test::readText(dir.file("loo.csv"))).size(), 6u);
+  EXPECT_NE(test::readText(dir.file("loo.csv")).find(",fallback_percent,ssim_leave_one_out\n"),
+            std::string::npos);
+  r = test::run(dir, app,
+                {"-i", input, "--Mode=leave-one-out", "--FrameCount=1",
+                 "--Cameras=cam00,cam02,cam04,cam06", "--Reference=" + input});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("| **all** |"), std::string::npos);
 
   r = test::run(dir, app, {"-i", input, "--Path=camera", "--Camera=nope", "-o", "x"});
   EXPECT_EQ(r.exitCode, 1);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "common/core/error.h"
 #include "common/core/file_io.h"
 #include "common/core/progress.h"
 #include "common/media/png_io.h"
@@ -15,7 +16,8 @@ namespace tdvo {
 std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const std::vector<int>& frames,
                                         const RenderOptions& options,
                                         const std::string& renderFolder, bool overwrite,
-                                        const std::vector<std::string>& inputs) {
+                                        const std::vector<std::string>& inputs,
+                                        const Dataset* reference) {
   const size_t n = dataset.cameras.size();
   std::vector<LeaveOneOutRow> rows(n);
   for (size_t i = 0; i < n; ++i)
@@ -23,12 +25,29 @@ std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const std::vecto
   std::vector<CameraFrames> cameraFrames;
   for (size_t i = 0; i < n; ++i)
     cameraFrames.emplace_back(dataset, i);
+  std::vector<CameraFrames> referenceFrames;
+  if (reference)
+    for (size_t i = 0; i < n; ++i) {
+      const Camera& own = dataset.cameras[i].camera;
+      const size_t r = reference->cameraIndex(own.name);
+      const Camera& other = reference->cameras[r].camera;
+      check(other.width == own.width && other.height == own.height,
+            "reference camera " + own.name + ": its images are " + std::to_string(other.width) +
+                " x " + std::to_string(other.height) + ", the input's " +
+                std::to_string(own.width) + " x " + std::to_string(own.height));
+      referenceFrames.emplace_back(*reference, r);
+    }
   std::optional<OutputFolder> files;
   if (!renderFolder.empty()) files.emplace(renderFolder, overwrite, inputs);
   Progress progress("3dvo-render: leave-one-out", frames.size() * n);
   size_t done = 0;
   for (int frame : frames) {
     const FrameViews views = loadFrameViews(dataset, cameraFrames, frame);
+    const int referenceFrame = reference ? dataset.firstFrame + frame - reference->firstFrame : 0;
+    if (reference)
+      check(referenceFrame >= 0 && referenceFrame < reference->frameCount,
+            "the reference dataset has no frame number " +
+                std::to_string(dataset.firstFrame + frame));
     for (size_t h = 0; h < n; ++h) {
       std::vector<bool> others(n, true);
       others[h] = false;
@@ -36,21 +55,24 @@ std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const std::vecto
       Image sources;
       const Image heldOut = renderView(views, camera, options, others, nullptr, &sources);
       const Image ownPose = renderView(views, camera, options);
-      Image mask = views.masks[h];
+      Image image = views.images[h], mask = views.masks[h];
+      if (reference) {
+        image = referenceFrames[h].frame(referenceFrame);
+        mask = referenceFrames[h].hasMasks() ? referenceFrames[h].mask(referenceFrame) : Image();
+      }
       if (mask.empty()) {  // no silhouette: compare where the mesh is drawn
         mask = Image(camera.width, camera.height, 1);
         for (size_t p = 0; p < mask.pixels.size(); ++p)
           mask.pixels[p] = ownPose.pixels[4 * p + 3];
       }
       LeaveOneOutRow& row = rows[h];
-      const SquaredError e = maskedSquaredError(heldOut, views.images[h], mask);
+      const SquaredError e = maskedSquaredError(heldOut, image, mask);
       row.heldOut += e;
-      row.ownPose += maskedSquaredError(ownPose, views.images[h], mask);
+      row.ownPose += maskedSquaredError(ownPose, image, mask);
+      row.heldOutSsim += maskedSsim(heldOut, image, mask);
       row.maskPixels += e.count / 3;
       for (size_t p = 0; p < mask.pixels.size(); ++p)
-        if (mask.pixels[p] != 0 &&
-            (sources.pixels[p] == kSourceNearest || sources.pixels[p] == kSourceColour))
-          ++row.fallbackPixels;
+        if (mask.pixels[p] != 0 && isFallback(sources.pixels[p])) ++row.fallbackPixels;
       if (!renderFolder.empty()) {
         char name[32];
         std::snprintf(name, sizeof name, "%04d.png", frame);
@@ -75,6 +97,13 @@ std::string psnrText(double psnr) {
   return buffer;
 }
 
+std::string ssimText(double ssim) {
+  if (std::isnan(ssim)) return "-";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.4f", ssim);
+  return buffer;
+}
+
 double fallbackPercent(const LeaveOneOutRow& r) {
   return r.maskPixels ? 100.0 * double(r.fallbackPixels) / double(r.maskPixels) : 0;
 }
@@ -86,6 +115,7 @@ LeaveOneOutRow pooled(const std::vector<LeaveOneOutRow>& rows) {
     all.maskPixels += r.maskPixels;
     all.heldOut += r.heldOut;
     all.ownPose += r.ownPose;
+    all.heldOutSsim += r.heldOutSsim;
     all.fallbackPixels += r.fallbackPixels;
   }
   return all;
@@ -96,30 +126,32 @@ LeaveOneOutRow pooled(const std::vector<LeaveOneOutRow>& rows) {
 std::string formatLeaveOneOutTable(const std::vector<LeaveOneOutRow>& rows) {
   std::string out =
       "| held-out camera | mask pixels | PSNR from the other cameras (dB) | PSNR at own pose, all "
-      "cameras (dB) | fallback pixels (%) |\n|---|---:|---:|---:|---:|\n";
+      "cameras (dB) | fallback pixels (%) | SSIM from the other cameras |\n"
+      "|---|---:|---:|---:|---:|---:|\n";
   std::vector<LeaveOneOutRow> all = rows;
   all.push_back(pooled(rows));
   for (const LeaveOneOutRow& r : all) {
     char line[512];
     const bool total = &r == &all.back();
-    std::snprintf(line, sizeof line, "| %s%s%s | %zu | %s | %s | %.2f |\n", total ? "**" : "",
+    std::snprintf(line, sizeof line, "| %s%s%s | %zu | %s | %s | %.2f | %s |\n", total ? "**" : "",
                   r.camera.c_str(), total ? "**" : "", r.maskPixels,
                   psnrText(r.heldOut.psnr()).c_str(), psnrText(r.ownPose.psnr()).c_str(),
-                  fallbackPercent(r));
+                  fallbackPercent(r), ssimText(r.heldOutSsim.mean()).c_str());
     out += line;
   }
   return out;
 }
 
 std::string formatLeaveOneOutCsv(const std::vector<LeaveOneOutRow>& rows) {
-  std::string out = "camera,mask_pixels,psnr_leave_one_out,psnr_own_pose,fallback_percent\n";
+  std::string out =
+      "camera,mask_pixels,psnr_leave_one_out,psnr_own_pose,fallback_percent,ssim_leave_one_out\n";
   std::vector<LeaveOneOutRow> all = rows;
   all.push_back(pooled(rows));
   for (const LeaveOneOutRow& r : all) {
     char line[512];
-    std::snprintf(line, sizeof line, "%s,%zu,%s,%s,%.4f\n", r.camera.c_str(), r.maskPixels,
+    std::snprintf(line, sizeof line, "%s,%zu,%s,%s,%.4f,%s\n", r.camera.c_str(), r.maskPixels,
                   psnrText(r.heldOut.psnr()).c_str(), psnrText(r.ownPose.psnr()).c_str(),
-                  fallbackPercent(r));
+                  fallbackPercent(r), ssimText(r.heldOutSsim.mean()).c_str());
     out += line;
   }
   return out;

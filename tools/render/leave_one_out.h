@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/media/dataset.h"
+#include "tools/render/masked_ssim.h"
 #include "tools/render/view_renderer.h"
 
 namespace tdvo {
@@ -16,24 +17,32 @@ struct LeaveOneOutRow {
   size_t maskPixels = 0;      // pixels compared, over all frames
   SquaredError heldOut;       // rendered from the other cameras
   SquaredError ownPose;       // rendered from all cameras
+  SsimSum heldOutSsim;        // SSIM of the held-out render inside the mask (masked_ssim.h)
   size_t fallbackPixels = 0;  // mask pixels no other camera sees (fallback colours)
 };
 
 // Evaluates every camera of `dataset` (frame indices `frames`) as held-out camera. The PSNR
 // mask is the camera's silhouette (mask files or alpha) when it has one, else the pixels the
-// rendered mesh covers. When `renderFolder` is not empty the held-out renders are written there
-// as <camera>/<frame index %04d>.png (an output folder: common/core/file_io.h, OutputFolder; a
-// non-empty one is refused unless `overwrite`). Progress on stderr when it is a terminal.
+// rendered mesh covers. With a `reference` dataset, the held-out camera's image and mask are
+// that dataset's camera of the same name at the same frame number (frames.first + index), e.g.
+// `dataset` a decoded 3DVO (its mesh and decoded pictures are what the renderer uses) and
+// `reference` the original captures; the cameras must have the same image size. When `renderFolder`
+// is not empty the held-out renders are written there as <camera>/<frame index %04d>.png (an output
+// folder: common/core/file_io.h, OutputFolder; a non-empty one is refused unless `overwrite`).
+// Progress on stderr when it is a terminal.
 std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const std::vector<int>& frames,
                                         const RenderOptions& options,
                                         const std::string& renderFolder = "",
                                         bool overwrite = false,
-                                        const std::vector<std::string>& inputs = {});
+                                        const std::vector<std::string>& inputs = {},
+                                        const Dataset* reference = nullptr);
 
 // A Markdown table: camera, pixels, leave-one-out PSNR, own-pose PSNR, % of the mask pixels
-// that fell back (no other camera sees them), and a last row pooling every camera.
+// that fell back (no other camera sees them), leave-one-out SSIM, and a last row pooling every
+// camera (the SSIM there is the mean over all mask pixels of all frames and cameras).
 std::string formatLeaveOneOutTable(const std::vector<LeaveOneOutRow>& rows);
-// The same as CSV (camera,mask_pixels,psnr_leave_one_out,psnr_own_pose,fallback_percent).
+// The same as CSV
+// (camera,mask_pixels,psnr_leave_one_out,psnr_own_pose,fallback_percent,ssim_leave_one_out).
 std::string formatLeaveOneOutCsv(const std::vector<LeaveOneOutRow>& rows);
 
 }  // namespace tdvo

@@ -35,7 +35,7 @@ enum class Mode { render, leaveOneOut };
 enum class PathKind { orbit, poses, camera };
 
 struct Params {
-  std::string input, cameras;
+  std::string input, cameras, reference;
   int cameraStep = 1, firstFrame = 0, frameCount = 0;
   Mode mode = Mode::render;
   RenderOptions render;
@@ -56,9 +56,13 @@ struct Params {
     t.add("CameraStep", cameraStep, 1, 100000, "use every n-th of those cameras");
     t.add("FirstFrame", firstFrame, 0, 1 << 30, "first frame index to use");
     t.add("FrameCount", frameCount, 0, 1 << 30, "frames to use (0: to the end)");
+    t.add("Reference", reference,
+          "Mode=leave-one-out: dataset whose images and masks the held-out renders are compared "
+          "with (cameras by name, frames by frame number), e.g. the original of a decoded 3DVO "
+          "given as Input; empty: Input's own");
     t.section("Mode");
     t.addEnum("Mode", mode, {{"render", Mode::render}, {"leave-one-out", Mode::leaveOneOut}},
-              "render a camera path; leave-one-out PSNR per camera");
+              "render a camera path; leave-one-out PSNR and SSIM per camera");
     t.section("Weights and visibility");
     t.addEnum("Blending", render.blending, {{"angle", Blending::angle}, {"ulr", Blending::ulr}},
               "camera weights: angle, w_i ~ sin(theta_i/2)^-k; or ulr, the angle term with a "
@@ -297,8 +301,15 @@ int main(int argc, char** argv) {
     } else {
       check(d.cameras.size() >= 2, "leave-one-out needs at least two cameras");
       check(!p.saveRenders || !p.output.empty(), "SaveRenders needs an output folder (-o DIR)");
+      std::optional<Dataset> reference;
+      std::vector<std::string> inputs = {p.input};
+      if (!p.reference.empty()) {
+        reference = readDataset(p.reference);
+        inputs.push_back(p.reference);
+      }
       const std::vector<LeaveOneOutRow> rows =
-          leaveOneOut(d, frames, p.render, p.saveRenders ? p.output : "", p.overwrite, {p.input});
+          leaveOneOut(d, frames, p.render, p.saveRenders ? p.output : "", p.overwrite, inputs,
+                      reference ? &*reference : nullptr);
       std::fputs(formatLeaveOneOutTable(rows).c_str(), stdout);
       if (!p.csv.empty()) writeFileAtomic(p.csv, formatLeaveOneOutCsv(rows));
     }
