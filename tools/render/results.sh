@@ -18,13 +18,15 @@
 # shellcheck disable=SC2086
 set -euo pipefail
 
-# --- The two configurations compared. Empty today: AFTER is then the same as BEFORE.
-# 3dvo-render keys of every leave-one-out run (the blending work: e.g. "--Blending=ulr").
-BEFORE_RENDER_ARGS="${BEFORE_RENDER_ARGS-}"
+# --- The two configurations compared (issue 22): BEFORE is the renderer and reconstruction as
+# they were, AFTER today's defaults.
+# 3dvo-render keys of every leave-one-out run: the angle weights and the nearest-camera fallback
+# before; Blending=ulr and Fallback=fill (the defaults) after.
+BEFORE_RENDER_ARGS="${BEFORE_RENDER_ARGS---Blending=angle --Fallback=nearest}"
 AFTER_RENDER_ARGS="${AFTER_RENDER_ARGS-}"
-# 3dvo-recon keys added to each reconstruction (the geometry work: its photo-consistency and
-# calibration refinement keys).
-BEFORE_RECON_ARGS="${BEFORE_RECON_ARGS-}"
+# 3dvo-recon keys added to each reconstruction: no calibration refinement before (it is on in
+# cfg/recon/uu-4cam.cfg, off by default elsewhere); the cfg files as they are after.
+BEFORE_RECON_ARGS="${BEFORE_RECON_ARGS---RefineCalibration=false}"
 AFTER_RECON_ARGS="${AFTER_RECON_ARGS-}"
 # uu-4cam frames reconstructed and measured (about 8 s of reconstruction per frame).
 UU_FRAMES="${UU_FRAMES-6}"
@@ -70,7 +72,8 @@ ssim() { column 6 "$1"; }
 table() { cat "$work/$1.md"; }
 
 # recon NAME INPUT CFG FRAMES ARGS: 3dvo-recon into $work/NAME-recon, then the dataset $work/NAME:
-# INPUT's cameras and images, the reconstructed meshes, the reconstruction's silhouettes as masks.
+# INPUT's cameras (the refined ones of the reconstruction's dataset.json when it refined them) and
+# images, the reconstructed meshes, the reconstruction's silhouettes as masks.
 recon() {
   local name="$1" input="$2" cfg="$3" frames="$4" args="$5"
   echo "results: 3dvo-recon $name ($cfg $args)" >&2
@@ -82,6 +85,8 @@ recon() {
   /usr/bin/python3 - "$input" "$work/$name" "$work/$name-recon" "$frames" << 'EOF'
 import json, os, sys
 src, out, recon, frames = sys.argv[1:5]
+if os.path.exists(os.path.join(recon, "dataset.json")):  # RefineCalibration's cameras
+    src = recon
 d = json.load(open(os.path.join(src, "dataset.json")))
 for c in d["cameras"]:  # paths relative to the input's folder become absolute
     for key in ("images", "video", "background", "backgroundVideo"):
@@ -257,7 +262,7 @@ every mask pixel of every frame and camera; [rendering.md](rendering.md)). "At o
 renders the same viewpoint with all cameras, the held-out one included (acceptance ≥ 40 dB on
 the synthetic rig; tested in \`tests/render_test.cpp\`); where the mesh does not cover the mask
 it is black, so an under-sized mesh shows there. "Fallback" is the share of mask pixels that no
-other camera sees (nearest-camera fallback).
+other camera sees (coloured by the \`Fallback\`).
 
 ## Configurations
 
@@ -266,8 +271,10 @@ other camera sees (nearest-camera fallback).
 | before | \`${BEFORE_RENDER_ARGS:-(defaults)}\` | \`${BEFORE_RECON_ARGS:-(defaults)}\` |
 | after | \`${AFTER_RENDER_ARGS:-(defaults)}\` | \`${AFTER_RECON_ARGS:-(defaults)}\` |
 
-Renderer defaults: \`ViewDirection=axis\`, \`Sharpness=4\`, \`DepthTolerance=0.01\`,
-\`Fallback=nearest\`. "Coded": the AFTER data set coded by \`3dvo-enc ${CODE_ARGS[*]}\` (D3DMC
+Renderer defaults: \`Blending=ulr\`, \`EdgeWidth=8\`, \`ResolutionPenalty=1\`,
+\`ViewDirection=axis\`, \`Sharpness=4\`, \`DepthTolerance=0.01\`, \`Fallback=fill\`
+([rendering.md](rendering.md), "Blending"). Reconstruction: the cfg files of \`cfg/recon/\`
+(\`RefineCalibration true\` in \`uu-4cam.cfg\`; [reconstruction.md](reconstruction.md)). "Coded": the AFTER data set coded by \`3dvo-enc ${CODE_ARGS[*]}\` (D3DMC
 P meshes lossless on a 16-bit grid, so the geometry is practically lossless; GOMs of 16 frames,
 or a reconstruction's own from its \`encode.cfg\`; a texture GOP per GOM) with the texture keys
 at their defaults (\`TextureQP 28\`, \`TextureMode bbox\`, \`TexturePadding mb128\`), decoded by
