@@ -153,6 +153,37 @@ TEST(Renderer, EdgeDistancesFromSilhouetteAndDepthEdges) {
   EXPECT_EQ(edgeDistances(depth, mask, w, h)[static_cast<size_t>(5 * w + 6)], 0.0f);
 }
 
+TEST(Renderer, EdgeDistancesAreTheExactCappedDistanceOnANoisyMap) {
+  // A map with edges everywhere (random depths, holes and mask gaps): the separable distance
+  // equals the brute force minimum over every edge pixel within the cap.
+  const int w = 53, h = 41;
+  std::vector<float> depth(static_cast<size_t>(w * h));
+  Image mask(w, h, 1, 255);
+  uint32_t state = 12345;
+  auto next = [&state] { return state = state * 1664525u + 1013904223u; };
+  for (size_t p = 0; p < depth.size(); ++p) {
+    const uint32_t v = next() >> 24;
+    depth[p] = v < 20 ? std::numeric_limits<float>::infinity() : 1.0f + float(v % 3);
+    if ((next() >> 24) < 10) mask.pixels[p] = 0;
+  }
+  const std::vector<float> d = edgeDistances(depth, mask, w, h);
+  // The edge pixels as edgeDistances defines them (0 there), then brute force.
+  std::vector<std::pair<int, int>> edges;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (d[static_cast<size_t>(y * w + x)] == 0.0f) edges.push_back({x, y});
+  ASSERT_GT(edges.size(), 100u);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      float best = static_cast<float>(kMaxEdgeWidth);
+      for (const auto& [ex, ey] : edges)
+        if (std::abs(ex - x) <= kMaxEdgeWidth && std::abs(ey - y) <= kMaxEdgeWidth)
+          best = std::min(best, static_cast<float>(
+                                    std::sqrt(double((ex - x) * (ex - x) + (ey - y) * (ey - y)))));
+      ASSERT_EQ(d[static_cast<size_t>(y * w + x)], best) << x << "," << y;
+    }
+}
+
 TEST_F(SynthRig, FillFallbackColoursUnseenPixelsFromTheBlendedOnesAndCountsThem) {
   // Camera 0's view from camera 4 alone (across the ring): most of the object is unseen.
   const FrameViews views = loadFrame(*dataset_, 0);

@@ -46,14 +46,17 @@ std::vector<float> edgeDistances(const std::vector<float>& depth, const Image& m
     return std::isfinite(depth[y * w + x]) &&
            (mask.empty() || mask.at(static_cast<int>(x), static_cast<int>(y)) != 0);
   };
-  std::vector<float> distance(w * h, static_cast<float>(kMaxEdgeWidth));
-  const int r = kMaxEdgeWidth;
+  // Edge pixels, then the exact Euclidean distance to the nearest one capped at kMaxEdgeWidth,
+  // found separably in O(pixels · kMaxEdgeWidth) whatever the number of edges: per row the
+  // horizontal distance to the nearest edge pixel within the cap, then per pixel the least
+  // sqrt(g² + oy²) over the rows within the cap.
+  std::vector<uint8_t> isEdge(w * h, 0);
+  const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
   for (size_t y = 0; y < h; ++y)
     for (size_t x = 0; x < w; ++x) {
       if (!inside(x, y)) continue;
       const double d = depth[y * w + x];
       bool edge = false;
-      const int dx[4] = {-1, 1, 0, 0}, dy[4] = {0, 0, -1, 1};
       for (int k = 0; k < 4 && !edge; ++k) {
         const long nx = static_cast<long>(x) + dx[k], ny = static_cast<long>(y) + dy[k];
         if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
@@ -61,15 +64,35 @@ std::vector<float> edgeDistances(const std::vector<float>& depth, const Image& m
         edge = !inside(ux, uy) || std::abs(depth[uy * w + ux] - d) >
                                       kEdgeDepthJump * std::min<double>(d, depth[uy * w + ux]);
       }
-      if (!edge) continue;
-      // Stamp the disc of radius kMaxEdgeWidth around the edge pixel.
-      for (int oy = -r; oy <= r; ++oy)
-        for (int ox = -r; ox <= r; ++ox) {
-          const long px = static_cast<long>(x) + ox, py = static_cast<long>(y) + oy;
-          if (px < 0 || py < 0 || px >= width || py >= height) continue;
-          float& at = distance[static_cast<size_t>(py) * w + static_cast<size_t>(px)];
-          at = std::min(at, static_cast<float>(std::sqrt(double(ox * ox + oy * oy))));
-        }
+      isEdge[y * w + x] = edge;
+    }
+  const int r = kMaxEdgeWidth;
+  constexpr int kFar = std::numeric_limits<int>::max() / 4;  // no edge within the cap
+  std::vector<int> g(w * h, kFar);
+  for (size_t y = 0; y < h; ++y) {
+    int last = -kFar;  // column of the last edge pixel seen, left to right
+    for (size_t x = 0; x < w; ++x) {
+      if (isEdge[y * w + x]) last = static_cast<int>(x);
+      if (static_cast<int>(x) - last <= r) g[y * w + x] = static_cast<int>(x) - last;
+    }
+    last = kFar;  // right to left
+    for (size_t x = w; x-- > 0;) {
+      if (isEdge[y * w + x]) last = static_cast<int>(x);
+      if (last - static_cast<int>(x) <= r)
+        g[y * w + x] = std::min(g[y * w + x], last - static_cast<int>(x));
+    }
+  }
+  std::vector<float> distance(w * h, static_cast<float>(kMaxEdgeWidth));
+  for (size_t y = 0; y < h; ++y)
+    for (size_t x = 0; x < w; ++x) {
+      float& at = distance[y * w + x];
+      for (int oy = -r; oy <= r; ++oy) {
+        const long py = static_cast<long>(y) + oy;
+        if (py < 0 || py >= height) continue;
+        const int gx = g[static_cast<size_t>(py) * w + x];
+        if (gx == kFar) continue;
+        at = std::min(at, static_cast<float>(std::sqrt(double(gx * gx + oy * oy))));
+      }
     }
   return distance;
 }

@@ -85,7 +85,8 @@ struct FrameViews {
 // mask (when there is one); an edge pixel is a shape pixel with a 4-neighbour inside the image
 // that is outside the shape or whose depth differs from its own by more than kEdgeDepthJump
 // times the smaller of the two. Value: the distance from the pixel centre to the nearest edge
-// pixel centre, capped at kMaxEdgeWidth (0 on edge pixels; kMaxEdgeWidth outside the shape).
+// pixel centre, capped at kMaxEdgeWidth (0 on edge pixels; pixels outside the shape have theirs
+// too). O(pixels · kMaxEdgeWidth), however many edges there are.
 std::vector<float> edgeDistances(const std::vector<float>& depth, const Image& mask, int width,
                                  int height);
 
