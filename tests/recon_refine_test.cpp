@@ -171,14 +171,14 @@ TEST(ReconRefine, RefinedCamerasAreWrittenToTheOutputDataset) {
   // The images and masks are still found from the new place of dataset.json.
   CameraFrames frames(written, 2);
   EXPECT_FALSE(frames.frame(0).empty());
-  // The encoder is pointed at the refined cameras (its texture shapes are the mesh projected into
-  // them); without the refinement it is left to the user's --Dataset.
+  // The cfg files name the refined cameras for the textures (their shapes are the mesh projected
+  // into them), in a comment: they code the geometry alone, as without the refinement.
   auto text = [](const std::string& path) {
     std::ifstream in(path);
     return std::string(std::istreambuf_iterator<char>(in), {});
   };
   const std::string datasetLine =
-      "Dataset          : " +
+      "\n# Dataset          : " +
       std::filesystem::absolute(std::filesystem::path(params.output) / "dataset.json").string();
   EXPECT_NE(text(params.output + "/encode.cfg").find(datasetLine), std::string::npos);
   EXPECT_NE(text(params.output + "/encode/gom_0000.cfg").find(datasetLine), std::string::npos);

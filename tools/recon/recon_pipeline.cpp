@@ -59,13 +59,18 @@ std::string csvRow(const FrameRecord& r) {
       r.truthDiagonal, r.photoSeconds, r.photoTargets, r.photoDisplacement);
 }
 
-// `dataset` (empty: none) is the refined cameras' dataset.json, which the encoder must then take
-// instead of the input's (its shapes are the mesh projected into these cameras).
+// `dataset` (empty: none) is the refined cameras' dataset.json, which the encoder must take
+// instead of the input's to code the textures (their shapes are the mesh projected into these
+// cameras). It is named in a comment: the cfg codes the geometry alone, as without refinement.
 std::string encoderCfg(const std::string& pattern, int first, int count, double rate, int gomSize,
                        const std::string& comment, const std::string& dataset) {
   std::string text = comment;
   text += "InputMeshPattern : " + pattern + "\n";
-  if (!dataset.empty()) text += "Dataset          : " + dataset + "\n";
+  if (!dataset.empty())
+    text +=
+        "# Textures: with the cameras RefineCalibration refined, not the input's, i.e. add\n"
+        "# Dataset          : " +
+        dataset + "\n";
   text += format("FirstFrame       : %d\n", first);
   text += format("FrameCount       : %d\n", count);
   text += format("FrameRate        : %.17g\n", rate);
