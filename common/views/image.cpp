@@ -34,4 +34,13 @@ Image convertChannels(const Image& image, int channels) {
   return out;
 }
 
+void checkMaskedComparison(const Image& test, const Image& reference, const Image& mask,
+                           const std::string& metric) {
+  check(test.width == reference.width && test.height == reference.height &&
+            mask.width == test.width && mask.height == test.height,
+        metric + ": image sizes differ");
+  check(test.channels >= 3 && reference.channels >= 3 && mask.channels >= 1,
+        metric + ": colour images and a mask are needed");
+}
+
 }  // namespace tdvo

@@ -37,4 +37,10 @@ struct Image {
 // ((77 R + 150 G + 29 B + 128) >> 8), alpha added as 255 or dropped.
 Image convertChannels(const Image& image, int channels);
 
+// Checks that a masked image comparison (`metric`, e.g. "PSNR", names it in the message) has
+// what it needs: `test` and `reference` with at least three channels and a `mask` with at least
+// one, all of one size. Throws Error otherwise.
+void checkMaskedComparison(const Image& test, const Image& reference, const Image& mask,
+                           const std::string& metric);
+
 }  // namespace tdvo

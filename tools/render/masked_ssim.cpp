@@ -6,7 +6,6 @@
 #include <limits>
 #include <vector>
 
-#include "common/core/error.h"
 
 namespace tdvo {
 
@@ -72,11 +71,7 @@ double SsimSum::mean() const {
 }
 
 SsimSum maskedSsim(const Image& test, const Image& reference, const Image& mask) {
-  check(test.width == reference.width && test.height == reference.height &&
-            mask.width == test.width && mask.height == test.height,
-        "SSIM: image sizes differ");
-  check(test.channels >= 3 && reference.channels >= 3 && mask.channels >= 1,
-        "SSIM: colour images and a mask are needed");
+  checkMaskedComparison(test, reference, mask, "SSIM");
   const int w = test.width, h = test.height;
   const size_t n = size_t(w) * size_t(h);
   const std::vector<double> a = luma(test), b = luma(reference);

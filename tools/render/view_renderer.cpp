@@ -391,11 +391,7 @@ double SquaredError::psnr() const {
 }
 
 SquaredError maskedSquaredError(const Image& test, const Image& reference, const Image& mask) {
-  check(test.width == reference.width && test.height == reference.height &&
-            mask.width == test.width && mask.height == test.height,
-        "PSNR: image sizes differ");
-  check(test.channels >= 3 && reference.channels >= 3 && mask.channels >= 1,
-        "PSNR: colour images and a mask are needed");
+  checkMaskedComparison(test, reference, mask, "PSNR");
   SquaredError e;
   for (int y = 0; y < test.height; ++y)
     for (int x = 0; x < test.width; ++x) {
