@@ -285,10 +285,9 @@ ReconResult runReconstruction(const ReconParams& params, std::FILE* log) {
     const auto metricStart = std::chrono::steady_clock::now();
     if (reconstructor) {
       std::vector<double> ious;
-      for (size_t u = 0; u < reconstructor->cameras().size(); ++u) {
-        const Camera& camera = dataset->cameras[reconstructor->cameras()[u]].camera;
-        ious.push_back(maskIoU(renderMask(step.mesh, camera), recon.silhouettes[u]));
-      }
+      const std::vector<Camera> cameras = reconstructor->cameraModels();
+      for (size_t u = 0; u < cameras.size(); ++u)
+        ious.push_back(maskIoU(renderMask(step.mesh, cameras[u]), recon.silhouettes[u]));
       record.iouMin = *std::min_element(ious.begin(), ious.end());
       double sum = 0;
       for (double v : ious)

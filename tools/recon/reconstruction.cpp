@@ -193,6 +193,13 @@ HullOptions FrameReconstructor::hullOptions() const {
   return options;
 }
 
+std::vector<Camera> FrameReconstructor::cameraModels() const {
+  std::vector<Camera> models;
+  for (size_t c : cameras_)
+    models.push_back(dataset_.cameras[c].camera);
+  return models;
+}
+
 CalibrationRefinementResult FrameReconstructor::refineCalibration(int frame, Dataset& dataset) {
   check(&dataset == &dataset_, "refineCalibration: not the reconstructor's dataset");
   keptFrame_ = frame;
@@ -203,9 +210,7 @@ CalibrationRefinementResult FrameReconstructor::refineCalibration(int frame, Dat
   const std::vector<CarvingView> views = carvingViews(keptSilhouettes_);
   const HullOptions options = hullOptions();
   const CaptureCube cube = estimateCaptureCube(views, options, params_.volumeMargin);
-  std::vector<Camera> cameras;
-  for (size_t c : cameras_)
-    cameras.push_back(dataset.cameras[c].camera);
+  std::vector<Camera> cameras = cameraModels();
   CalibrationRefinementOptions refine = params_.calibration;
   refine.hull = options;
   const CalibrationRefinementResult result =
@@ -262,11 +267,8 @@ ReconstructedFrame FrameReconstructor::reconstruct(int frame) {
   smoothMesh(out.surface, smoothing);
   out.smoothingSeconds = secondsSince(start);
   if (params_.photoRefine) {
-    std::vector<Camera> cameras;
-    for (size_t c : cameras_)
-      cameras.push_back(dataset_.cameras[c].camera);
     out.photo =
-        photoRefine(out.surface, cameras, images, views, out.stats.voxelSize, params_.photo);
+        photoRefine(out.surface, cameraModels(), images, views, out.stats.voxelSize, params_.photo);
     out.photoRefined = true;
   }
   return out;

@@ -40,6 +40,8 @@ class FrameReconstructor {
 
   // The used cameras (in dataset order) and how their silhouettes are made.
   const std::vector<size_t>& cameras() const { return cameras_; }
+  // The used cameras' models, in that order (refined ones after refineCalibration).
+  std::vector<Camera> cameraModels() const;
   std::string silhouetteMethodName(size_t usedCamera) const;
   int minViews() const { return minViews_; }
 
