@@ -154,6 +154,10 @@ class StreamDecoder::Decoding : public GomUnits {
     expectUnit(*units_, unit_, type, when);
   }
   void expectUnit(UnitSource& from, UnitView& unit, UnitType type, const std::string& when);
+  std::string frameName(uint64_t k, const std::string& of = "") const;
+  std::string gomName(const GomHeader& gh) const {
+    return "the GOM at " + frameName(gh.gh_first_frame);
+  }
   void skipTextures(const GomHeader& gh);
   IntMesh readIMesh(uint32_t frame, uint32_t frames);
   void readAttributes(uint32_t frame);
@@ -224,6 +228,16 @@ void StreamDecoder::Decoding::expectUnit(UnitSource& from, UnitView& unit, UnitT
                 "; truncated stream)");
   if (unit.type != static_cast<uint8_t>(type))
     throw Error(name_ + ": " + unit.describe() + ": expected " + aUnit(type) + " " + when);
+}
+
+// Stream frame k as the user knows it, in the messages that name a frame: its input frame
+// number (sh_first_frame + k, as in the MD5 lines and the output files), with the stream's own
+// index beside it when they differ: "frame 5 (stream frame 4)"; `of` follows the index
+// (" of 20"). The syntax elements' values (im_frame, gh_first_frame, ...) stay stream indices.
+std::string StreamDecoder::Decoding::frameName(uint64_t k, const std::string& of) const {
+  const uint64_t number = uint64_t{sh_.sh_first_frame} + k;
+  if (number == k) return "frame " + std::to_string(k) + of;
+  return "frame " + std::to_string(number) + " (stream frame " + std::to_string(k) + of + ")";
 }
 
 void StreamDecoder::Decoding::expectEnd() {
@@ -338,7 +352,7 @@ void StreamDecoder::Decoding::decodeGom() {
 
 GomHeader StreamDecoder::Decoding::readGomHeader() {
   const std::string when =
-      "before frame " + std::to_string(nextFrame_) + " of " + std::to_string(sh_.sh_frame_count);
+      "before " + frameName(nextFrame_, " of " + std::to_string(sh_.sh_frame_count));
   expectUnit(UnitType::kGomHeader, when);
   const GomHeader gh = parseUnit<GomHeader>(unit_, name_, trace_, "the GOM header");
   gomWhere_ = name_ + ": " + unit_.describe();
@@ -357,7 +371,7 @@ void StreamDecoder::Decoding::skipGom(const GomHeader& gh) {
   for (size_t k = 0; k < gh.gh_frame_count; ++k)
     for (UnitType type : {UnitType::kIMesh, UnitType::kVertexOrder, UnitType::kAttributes})
       if (type != UnitType::kAttributes || sh_.sh_attributes_present)
-        expectUnit(type, "in the GOM at frame " + std::to_string(gh.gh_first_frame));
+        expectUnit(type, "in " + gomName(gh));
   skipTextures(gh);
   nextFrame_ += gh.gh_frame_count;
   gom_.clearContinuation();
@@ -365,7 +379,7 @@ void StreamDecoder::Decoding::skipGom(const GomHeader& gh) {
 
 void StreamDecoder::Decoding::skipTextures(const GomHeader& gh) {
   for (size_t k = 0; k < size_t{gh.gh_frame_count} * sh_.cameras.size(); ++k) {
-    expectUnit(UnitType::kTexture, "in the GOM at frame " + std::to_string(gh.gh_first_frame));
+    expectUnit(UnitType::kTexture, "in " + gomName(gh));
     d_.textureBytes_ += kUnitOverhead + unit_.size;
   }
 }
@@ -396,7 +410,7 @@ void StreamDecoder::Decoding::startGeometry(const GomHeader& gh) {
 
 // `frames`: the frames made from this I mesh's vertices (the GOM's; 1 in an intra GOM).
 IntMesh StreamDecoder::Decoding::readIMesh(uint32_t frame, uint32_t frames) {
-  expectUnit(UnitType::kIMesh, "for frame " + std::to_string(frame));
+  expectUnit(UnitType::kIMesh, "for " + frameName(frame));
   const IMeshUnit im = parseUnit<IMeshUnit>(unit_, name_, trace_, "the I mesh");
   const std::string where = name_ + ": " + unit_.describe();
   if (im.im_frame != frame)
@@ -408,7 +422,7 @@ IntMesh StreamDecoder::Decoding::readIMesh(uint32_t frame, uint32_t frames) {
   limitDecodingWork(frames, decoded.positions.size());
   if (!cameras_.empty() && !pull_ && mode_ == PMeshMode::kIntra)
     kept_.payloads.push_back(im.im_draco_payload);
-  expectUnit(UnitType::kVertexOrder, "after the I mesh of frame " + std::to_string(frame));
+  expectUnit(UnitType::kVertexOrder, "after the I mesh of " + frameName(frame));
   const VertexOrderUnit vo = parseUnit<VertexOrderUnit>(unit_, name_, trace_, "the vertex order");
   const std::string orderWhere = name_ + ": " + unit_.describe();
   if (vo.vo_frame != frame)
@@ -426,7 +440,7 @@ IntMesh StreamDecoder::Decoding::readIMesh(uint32_t frame, uint32_t frames) {
 // The ATTRIBUTES unit after the vertex order of frame `frame`'s I mesh (syntax version 3 with
 // sh_attributes_present): the texture coordinates and normals of every frame made from it.
 void StreamDecoder::Decoding::readAttributes(uint32_t frame) {
-  expectUnit(UnitType::kAttributes, "after the vertex order of frame " + std::to_string(frame));
+  expectUnit(UnitType::kAttributes, "after the vertex order of " + frameName(frame));
   AttributesUnit at;
   // Values beyond the output's corners would be values no corner uses: their bound.
   at.maxValues = static_cast<uint32_t>(std::min<size_t>(3 * order_.triangles.size(), UINT32_MAX));
@@ -442,7 +456,7 @@ void StreamDecoder::Decoding::readAttributes(uint32_t frame) {
 
 PMeshPayload StreamDecoder::Decoding::pMesh(uint32_t k) {
   const uint32_t frame = gomFirst_ + k;
-  expectUnit(UnitType::kPMesh, "for frame " + std::to_string(frame));
+  expectUnit(UnitType::kPMesh, "for " + frameName(frame));
   parseUnitInto(unit_, name_, trace_, "the P mesh", pm_);
   const std::string where = name_ + ": " + unit_.describe();
   if (pm_.pm_frame != frame)
@@ -558,8 +572,8 @@ class StreamDecoder::Decoding::TexturePass {
   void readNextUnit() {
     const size_t c = unitsRead_ % cameras_;
     const uint32_t frame = first_ + static_cast<uint32_t>(unitsRead_ / cameras_);
-    run_.expectUnit(UnitType::kTexture, "for the texture of camera " + std::to_string(c) +
-                                            ", frame " + std::to_string(frame));
+    run_.expectUnit(UnitType::kTexture, "for the texture of camera " + std::to_string(c) + ", " +
+                                            run_.frameName(frame));
     const UnitView& unit = run_.unit_;
     Parsed& p = parsed_[unitsRead_];
     p.tx = parseUnit<TextureUnit>(unit, run_.name_, run_.trace_, "the texture");
@@ -659,7 +673,7 @@ bool StreamDecoder::Decoding::pull(uint32_t& frame, const IntMesh*& mesh, UnitSo
 // the GOM header just read (units_ checks them as it decodes them).
 void StreamDecoder::Decoding::startPulledTextures(UnitSource& textureUnits) {
   textureUnits.seek(unit_.end(), unit_.index + 1);
-  const std::string when = "in the GOM at frame " + std::to_string(gh_.gh_first_frame);
+  const std::string when = "in " + gomName(gh_);
   for (;;) {
     if (!textureUnits.next(textureUnit_))
       throw Error(name_ + ": stream ends " + when + " (expected " + aUnit(UnitType::kTexture) +
@@ -691,9 +705,8 @@ void StreamDecoder::Decoding::pullTextures(uint32_t frame, const std::vector<Vec
   }
   textures.resize(cameras_.size());
   for (size_t c = 0; c < cameras_.size(); ++c) {
-    expectUnit(
-        *textureUnits_, textureUnit_, UnitType::kTexture,
-        "for the texture of camera " + std::to_string(c) + ", frame " + std::to_string(frame));
+    expectUnit(*textureUnits_, textureUnit_, UnitType::kTexture,
+               "for the texture of camera " + std::to_string(c) + ", " + frameName(frame));
     TextureUnit tx = parseUnit<TextureUnit>(textureUnit_, name_, trace_, "the texture");
     const std::string where = name_ + ": " + textureUnit_.describe();
     if (tx.tx_frame != frame || tx.tx_camera != c)

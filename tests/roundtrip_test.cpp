@@ -304,6 +304,38 @@ TEST_P(CorruptStreamTest, EveryTruncationIsAnError) {
   }
 }
 
+// A stream that starts at input frame 7 (FirstFrame), cut after its first frame's units: the
+// error names the missing frame as the MD5 lines and the output files do (frame 8), with the
+// stream's own index beside it, not as "frame 1", which would read as an earlier frame.
+TEST_P(CorruptStreamTest, TruncationNamesTheInputFrameNumber) {
+  const std::vector<Mesh> frames = test::wobblingSphere(1, 3);
+  EncoderParams params = paramsFor(10, 3, GetParam());
+  params.firstFrame = 7;
+  const std::vector<uint8_t> stream =
+      encodeSequence(params, gridForSequence(frames, 10), frames, {}, [](int, const IntMesh&) {
+      }).stream;
+  // The units' ends: SEQUENCE_HEADER, GOM_HEADER, then frame 7's I mesh and vertex order.
+  std::vector<size_t> ends;
+  {
+    UnitReader reader(stream.data(), stream.size(), "c.3dvo");
+    UnitView view;
+    while (reader.next(view))
+      ends.push_back(view.end());
+  }
+  ASSERT_GE(ends.size(), 5u);
+  std::vector<std::string> lines;
+  const std::string message = decodeError(stream, ends[3], &lines);
+  ASSERT_EQ(lines.size(), 1u);  // frame 7 was decoded
+  const std::string expected = GetParam() == PMeshMode::kIntra
+                                   ? "stream ends for frame 8 (stream frame 1) (expected an I_MESH"
+                                   : "stream ends for frame 8 (stream frame 1) (expected a P_MESH";
+  EXPECT_NE(message.find(expected), std::string::npos) << message;
+  // Before the first GOM header: "frame 7 (stream frame 0 of 3)".
+  EXPECT_NE(decodeError(stream, ends[0]).find("stream ends before frame 7 (stream frame 0 of 3)"),
+            std::string::npos)
+      << decodeError(stream, ends[0]);
+}
+
 TEST_P(CorruptStreamTest, EveryFlippedByteIsAnErrorNamingTheUnit) {
   const SmallStream& s = smallStream(GetParam());
   for (size_t position = 0; position < s.bytes.size(); ++position)
