@@ -198,6 +198,7 @@ void EncoderParams::validateCoding() const {
         "(set 2 or more, or 0 for every frame)");
   check(!(keyframeCount > 0 && keyframeMaxError > 0),
         "KeyframeCount and KeyframeMaxError exclude each other: set one of them");
+  check(lambda == -1 || lambda >= 0, "Lambda must be -1 (automatic), 0 or positive");
   check(keyframeLambda == -1 || keyframeLambda >= 0,
         "KeyframeLambda must be -1 (automatic), 0 (off) or positive");
   check(keyframeLambda == 0 || (keyframeCount == 0 && keyframeMaxError == 0),

@@ -1997,6 +1997,10 @@ CATALOGUE_TEST(C45) {
   expectCfgRow("C45", "PMeshMode : d3dmc\nKeyframeLambda : -0.5\n");
 }
 
+CATALOGUE_TEST(C46) {
+  expectCfgRow("C46", "PMeshMode : d3dmc\nLambda : -0.5\n");
+}
+
 // GOMListFile rows: the list is goms.txt beside x.cfg (one coded frame unless the cfg says so).
 CATALOGUE_TEST(C21) {
   expectCfgRow("C21", "GOMListFile : missing.txt\n");
