@@ -593,6 +593,28 @@ TEST(MetricsApp, SequenceWithNearestCorrespondenceMatchesTheLibrary) {
   EXPECT_NE(r.out.find("KG error"), std::string::npos);
 }
 
+// A sequence whose first frame is missing on one side: the error names that side's file and
+// the key that chose its number, not "A or B does not exist" (here ref_1.obj.gz exists and
+// out/0001.obj does not: the test side starts at 0000).
+TEST(MetricsApp, NoFramesToCompareNamesTheMissingSide) {
+  AppFixture fx;
+  test::CommandResult r = test::run(fx.dir, kApp,
+                                    {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t",
+                                     "out/%04d.obj", "--TestFirstFrame=3", "--CsvFile=m.csv"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("no frames to compare: 'out/0003.obj' (TestFirstFrame 3) does not exist"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("ref_1.obj.gz"), std::string::npos) << r.err;
+  r = test::run(fx.dir, kApp, {"-r", "ref_%d.obj.gz", "-t", "out/%04d.obj", "--TestFirstFrame=7"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("'ref_0.obj.gz' (ReferenceFirstFrame 0) and 'out/0007.obj' "
+                       "(TestFirstFrame 7) do not exist"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(fx.dir.file("m.csv")));
+}
+
 TEST(MetricsApp, IdentityCorrespondenceSeesTheShuffle) {
   AppFixture fx;
   const test::CommandResult r = test::run(fx.dir, kApp,

@@ -52,7 +52,8 @@ struct Params {
     t.add("TestMeshes", testMeshes,
           "test meshes (e.g. decoded output): one file, or a pattern such as out/%04d.obj", "-t");
     t.add("TestFirstFrame", testFirstFrame, 0, 1000000000,
-          "number of the first test frame (sequences only; 3dvo-dec numbers from 0)");
+          "number of the first test frame (sequences only; 3dvo-dec names its files with the "
+          "input's frame numbers: the encoder's FirstFrame, or 0 with --RenumberFrames)");
     t.section("Comparison");
     t.add("FrameCount", frameCount, 0, 10000000,
           "frames to compare (sequences only); 0 = from the first frames on, as long as "
@@ -135,7 +136,8 @@ int main(int argc, char** argv) {
                       "  or   3dvo-metrics --ReferenceDataset=DIR --TestDataset=DECODED "
                       "[--Bitstream=S.3dvo] [--Key=value ...]\n"
                       "  e.g. 3dvo-metrics -r seq/%04d.obj.gz --ReferenceFirstFrame=1 "
-                      "-t out/%04d.obj --Correspondence=nearest --GroupSize=8 --CsvFile=m.csv");
+                      "-t out/%04d.obj --TestFirstFrame=1 --Correspondence=nearest --GroupSize=8 "
+                      "--CsvFile=m.csv");
     p.registerOptions(table);
     table.addVersionLines({"stream syntax version " + std::to_string(kSyntaxVersion)});
     table.addVersionLines(mediaLibraryVersions());
@@ -181,9 +183,21 @@ int main(int argc, char** argv) {
             std::filesystem::exists(framePath(p.referenceMeshes, p.referenceFirstFrame + count)) &&
             std::filesystem::exists(framePath(p.testMeshes, p.testFirstFrame + count)))
           ++count;
-        check(count > 0, "no frames to compare: '" +
-                             framePath(p.referenceMeshes, p.referenceFirstFrame) + "' or '" +
-                             framePath(p.testMeshes, p.testFirstFrame) + "' does not exist");
+        if (count == 0) {
+          // Name the side that lacks its first frame (or both), with the key that chose it.
+          const std::string reference = framePath(p.referenceMeshes, p.referenceFirstFrame);
+          const std::string test = framePath(p.testMeshes, p.testFirstFrame);
+          std::vector<std::string> missing;
+          if (!std::filesystem::exists(reference))
+            missing.push_back("'" + reference + "' (ReferenceFirstFrame " +
+                              std::to_string(p.referenceFirstFrame) + ")");
+          if (!std::filesystem::exists(test))
+            missing.push_back("'" + test + "' (TestFirstFrame " + std::to_string(p.testFirstFrame) +
+                              ")");
+          throw Error("no frames to compare: " +
+                      (missing.size() == 2 ? missing[0] + " and " + missing[1] + " do not exist"
+                                           : missing[0] + " does not exist"));
+        }
       }
       for (int k = 0; k < count; ++k) {
         referenceFrames.push_back(p.referenceFirstFrame + k);
