@@ -340,6 +340,13 @@ class PlayTest(unittest.TestCase):
                       "TDVO_PLAYER_DIR", "share/3dvo/player", "SIGTERM", "loopback"):
             self.assertIn(words, result.stdout)
 
+    def test_version(self):
+        # Every app takes --version (docs/user-guide.md); the build fills in the release.
+        result = subprocess.run([sys.executable, PLAY, "--version"], capture_output=True,
+                                text=True, timeout=20)
+        self.assertEqual((result.returncode, result.stderr), (0, ""))
+        self.assertRegex(result.stdout, r"^3dvo-play \(3DVO [0-9]+\.[0-9]+\.[0-9]+\)\n  Python ")
+
     def test_the_builds_player_folder(self):
         if not all(os.path.isfile(os.path.join(BUILT_PLAYER, "wasm", n)) for n in WASM):
             self.skipTest(f"{BUILT_PLAYER}/wasm/ does not hold the WebAssembly module "
