@@ -51,6 +51,16 @@ bool holdsIdrSlice(const std::vector<uint8_t>& au) {
   return false;
 }
 
+// The header comment says what the numbers are: counted from the first output frame, not the
+// output files' numbers (which are the input's frame numbers, 0200.obj ... with FirstFrame 200).
+TEST(GomList, FormatSaysFramesCountFromFirstFrame) {
+  const std::string text = formatGomList({{0, 2}});
+  EXPECT_EQ(text.rfind("# 3dvo-recon GOM list: ", 0), 0u) << text;
+  EXPECT_NE(text.find("counted from the first output frame (0 = FirstFrame)"), std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("numbered as the output"), std::string::npos) << text;
+}
+
 TEST(GomList, FormatAndParseRoundTrip) {
   const GomList goms = {{0, 5}, {5, 16}, {21, 1}};
   EXPECT_EQ(parseGomList(formatGomList(goms), "goms.txt"), goms);

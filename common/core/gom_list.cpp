@@ -26,8 +26,8 @@ std::string isOrAre(long long first, long long last) {
 
 std::string formatGomList(const GomList& goms) {
   std::string text =
-      "# 3dvo-recon GOM list: one GOM per line, <first frame> <frame count>, frames numbered "
-      "as the output OBJ files\n";
+      "# 3dvo-recon GOM list: one GOM per line, <first frame> <frame count>, frames counted "
+      "from the first output frame (0 = FirstFrame)\n";
   for (const auto& g : goms)
     text += std::to_string(g.first) + " " + std::to_string(g.second) + "\n";
   return text;

@@ -33,7 +33,9 @@ void addReconOptions(OptionTable& table, ReconParams& p) {
   table.add("Cameras", p.cameras, "comma-separated camera names to use (empty: all)");
   table.add("ExcludeCameras", p.excludeCameras, "comma-separated camera names to leave out");
   table.add("OutputMeshPattern", p.outputMeshPattern,
-            "file name of output frame n inside Output (n from 0)");
+            "file name of output frame n inside Output: n is the input's frame number (the "
+            "dataset's frames.first + index, or the input file's number: InputMeshPattern with "
+            "FirstFrame 200 writes 0200.obj ...)");
   table.add("WriteSilhouettes", p.writeSilhouettes,
             "also write the silhouettes (silhouettes/<camera>/%04d.png)");
   table.add("WriteHull", p.writeHull,
