@@ -1506,6 +1506,12 @@ CATALOGUE_TEST(D15) {
               {"-i", "x.3dvo", "-o", "out", std::string("--AnimationFile=") + name});
 }
 
+CATALOGUE_TEST(D16) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  expectRow("D16", "3dvo-dec",
+            {"-i", "x.3dvo", "-o", "out", "--MeshFormat=glb", "--AnimationFile=0000.glb"});
+}
+
 // ---- PLY and glTF input (3dvo-enc) ----
 
 // Frame 0 of the usual sphere, as a file `name` in in/, and the encoder's arguments for it.

@@ -289,6 +289,25 @@ TEST(OutputFolders, FailedRunLeavesNoFolderTree) {
   EXPECT_TRUE(test::listFolder(dir.path()).empty());
 }
 
+// Two outputs of one run naming the same file: an error saying so (it was "cannot create: File
+// exists", as if a file of someone else's were in the way), and the folder is left as it was.
+TEST(OutputFolders, AFileWrittenTwiceIsAnErrorSayingSo) {
+  TempDir dir("outfolder-twice");
+  {
+    OutputFolder out(dir.file("out"), false);
+    out.write(dir.file("out/0000.glb"), "frame");
+    try {
+      out.write(dir.file("out/0000.glb"), "animation");
+      FAIL() << "no error";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()),
+                dir.file("out/0000.glb") +
+                    ": is written twice by this run (two of its outputs name this file)");
+    }
+  }
+  EXPECT_TRUE(test::listFolder(dir.path()).empty());
+}
+
 TEST(OutputFolders, CommitHoldsExactlyThisRunsOutput) {
   TempDir dir("outfolder");
   std::filesystem::create_directories(dir.path() / "out" / "cam7");

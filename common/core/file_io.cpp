@@ -448,6 +448,9 @@ void OutputFolder::write(const std::string& path, const void* data, size_t size)
     fs::create_directories(staged.parent_path(), ec);
     if (ec) throw Error(path + ": cannot create folder: " + ec.message());
     fd = ::open(staged.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    // The staging folder is this run's own: a file already in it was written by this run.
+    if (fd < 0 && errno == EEXIST)
+      throw Error(path + ": is written twice by this run (two of its outputs name this file)");
     if (fd < 0) throw Error(path + ": cannot create: " + systemError());
   }
   const bool written = writeAll(fd, data, size);
