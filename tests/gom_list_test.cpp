@@ -126,6 +126,20 @@ TEST(GomList, ReadFromAFile) {
   EXPECT_THROW(readGomList(dir.file("missing.txt")), Error);
 }
 
+// A UTF-8 byte-order mark at the start, as a cfg file may have one (it was "expected '<first
+// frame> <frame count>'" and "'' is not a frame index", the mark invisible).
+TEST(GomList, ByteOrderMarkAtTheStartIsSkipped) {
+  test::TempDir dir("gom-list-bom");
+  test::writeText(dir.file("goms.txt"),
+                  "\xEF\xBB\xBF"
+                  "0 2\r\n2 1\r\n");
+  EXPECT_EQ(readGomList(dir.file("goms.txt"), 3), (GomList{{0, 2}, {2, 1}}));
+  test::writeText(dir.file("starts.txt"),
+                  "\xEF\xBB\xBF"
+                  "0\n4\n");
+  EXPECT_EQ(readGomStarts(dir.file("starts.txt")), (std::vector<int>{0, 4}));
+}
+
 TEST(GomStarts, ReadFromAFileSortedWithoutRepeats) {
   // gom_starts.txt as 3dvo-dec writes it and 3dvo-metrics --GroupStarts reads it.
   test::TempDir dir("gom-starts");

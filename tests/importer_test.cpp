@@ -239,6 +239,20 @@ std::vector<Camera> camerasOf(const Dataset& d) {
 
 // ---------------------------------------------------------------- hand-made inputs
 
+// A calibration file starting with a UTF-8 byte-order mark reads as without it (it was "'16' is
+// not a number", the mark invisible).
+TEST(Importer, MiddleburyParFileWithByteOrderMark) {
+  TempFolder dir("mb-bom");
+  writePng(dir / "v1.png", Image(40, 30, 3));
+  writeText(dir / "x_par.txt",
+            "\xEF\xBB\xBF"
+            "1\r\n"
+            "v1.png 100 0 19.5 0 110 14.5 0 0 1  1 0 0 0 1 0 0 0 1  0.1 0.2 3\r\n");
+  const Dataset d = importAny(dir.str(), {});
+  ASSERT_EQ(d.cameras.size(), 1u);
+  EXPECT_EQ(d.cameras[0].camera.name, "v1");
+}
+
 TEST(Importer, MiddleburyParFile) {
   TempFolder dir("mb");
   writePng(dir / "v1.png", Image(40, 30, 3));

@@ -53,6 +53,25 @@ TEST(ObjIo, ParsesVerticesAndTriangles) {
   EXPECT_EQ(m.triangles[3], (Triangle{1, 2, 3}));
 }
 
+// A UTF-8 byte-order mark (as Windows editors write) is no part of the first statement: the file
+// reads as without it (it was "unsupported statement 'v'", the mark invisible in the message),
+// plain and gzip-compressed. Elsewhere the bytes are an error as before.
+TEST(ObjIo, ByteOrderMarkAtTheStartIsSkipped) {
+  const std::string bom = "\xEF\xBB\xBF";
+  const Mesh m = parseObj(bom + kTetrahedron, "t.obj");
+  EXPECT_EQ(m.positions, parseObj(kTetrahedron, "t.obj").positions);
+  EXPECT_EQ(m.triangles, parseObj(kTetrahedron, "t.obj").triangles);
+  test::TempDir dir("obj-bom");
+  test::writeGz(dir.file("t.obj.gz"), bom + kTetrahedron);
+  EXPECT_EQ(readObj(dir.file("t.obj.gz")).triangles, m.triangles);
+  try {
+    parseObj(std::string(kTetrahedron) + bom + "v 0 0 0\n", "t.obj");
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("unsupported statement"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ObjIo, ParsesNumberForms) {
   const Mesh m = parseObj("v -1.5 2e3 .25\nv 1E-2 -0 7\nv 3 4 5 1.0\nf 1 2 3\n", "n.obj");
   ASSERT_EQ(m.positions.size(), 3u);

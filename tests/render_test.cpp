@@ -553,6 +553,11 @@ TEST(CameraPath, PoseFilesAndTheirErrors) {
   EXPECT_NEAR(norm(poses[0].centre() - Vec3d{0, 0, 5}), 0, 1e-12);
   EXPECT_NEAR(norm(poses[1].centre() - Vec3d{1, 2, 3}), 0, 1e-12);
   EXPECT_NEAR(dot(poses[1].viewingDirection(), normalized(Vec3d{-1, -2, -3})), 1, 1e-12);
+  // A UTF-8 byte-order mark at the start is no part of the first line.
+  test::writeText(dir.file("bom.txt"),
+                  "\xEF\xBB\xBF"
+                  "0 0 5  0 0 0\r\n");
+  ASSERT_EQ(readPoses(dir.file("bom.txt"), intrinsics, {0, 1, 0}).size(), 1u);
   auto errorOf = [&](const std::string& text) {
     test::writeText(dir.file("bad.txt"), text);
     try {

@@ -8,6 +8,7 @@
 
 #include "common/core/error.h"
 #include "common/core/file_io.h"
+#include "common/core/text_tokens.h"
 #include "common/core/version.h"
 
 namespace tdvo {
@@ -178,8 +179,7 @@ bool OptionTable::wasSet(const std::string& key) const {
 
 void OptionTable::parseText(const std::string& text, const std::string& origin) {
   // A UTF-8 byte-order mark (as some Windows editors write) is not part of the first key.
-  const bool bom = text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0;
-  std::istringstream in(bom ? text.substr(3) : text);
+  std::istringstream in(std::string(withoutUtf8Bom(text)));
   std::string line;
   int lineNumber = 0;
   while (std::getline(in, line)) {
@@ -199,8 +199,7 @@ void OptionTable::parseText(const std::string& text, const std::string& origin) 
 
 void OptionTable::parseFile(const std::string& path) {
   filesRead_.push_back(path);
-  const std::vector<uint8_t> bytes = readFileBytes(path, kMaxCfgFileBytes, "a cfg file");
-  parseText(std::string(bytes.begin(), bytes.end()), path);
+  parseText(readTextFile(path, kMaxCfgFileBytes, "a cfg file"), path);
 }
 
 void OptionTable::addVersionLines(const std::vector<std::string>& lines) {

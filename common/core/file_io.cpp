@@ -14,6 +14,7 @@
 
 #include "common/core/error.h"
 #include "common/core/interrupt.h"
+#include "common/core/text_tokens.h"
 
 namespace tdvo {
 
@@ -52,6 +53,12 @@ std::vector<uint8_t> readFileBytes(const std::string& path, uint64_t maxBytes, c
   }
   if (std::ferror(f.get())) throw Error(path + ": read error: " + systemError());
   return data;
+}
+
+std::string readTextFile(const std::string& path, uint64_t maxBytes, const char* what) {
+  const std::vector<uint8_t> bytes = readFileBytes(path, maxBytes, what);
+  return std::string(
+      withoutUtf8Bom(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size())));
 }
 
 void readFileMaybeGzChunks(const std::string& path,

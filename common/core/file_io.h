@@ -26,6 +26,10 @@ constexpr uint64_t kMaxBinaryFileBytes = uint64_t{1} << 30;  // images, texture 
 std::vector<uint8_t> readFileBytes(const std::string& path, uint64_t maxBytes = kMaxBinaryFileBytes,
                                    const char* what = "an input file");
 
+// Reads a whole text file as readFileBytes does, without a UTF-8 byte-order mark at its start
+// (text_tokens.h, withoutUtf8Bom): cfg files, GOM lists, calibration files.
+std::string readTextFile(const std::string& path, uint64_t maxBytes, const char* what);
+
 // Reads a file chunk by chunk, decompressing it when it is gzip-compressed (through zlib), and
 // hands each chunk (at most 64 KiB) to `consume`: memory does not grow with the file.
 void readFileMaybeGzChunks(const std::string& path,

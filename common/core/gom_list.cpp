@@ -86,13 +86,11 @@ GomList parseGomList(const std::string& text, const std::string& name, size_t fr
 }
 
 GomList readGomList(const std::string& path, size_t frameCount) {
-  const std::vector<uint8_t> bytes = readFileBytes(path, kMaxCfgFileBytes, "a GOM list");
-  return parseGomList(std::string(bytes.begin(), bytes.end()), path, frameCount);
+  return parseGomList(readTextFile(path, kMaxCfgFileBytes, "a GOM list"), path, frameCount);
 }
 
 std::vector<int> readGomStarts(const std::string& path) {
-  const std::vector<uint8_t> bytes = readFileBytes(path, kMaxCfgFileBytes, "a GOM list");
-  std::istringstream in(std::string(bytes.begin(), bytes.end()));
+  std::istringstream in(readTextFile(path, kMaxCfgFileBytes, "a GOM list"));
   std::vector<int> starts;
   std::string line;
   int lineNumber = 0;

@@ -91,6 +91,7 @@ class ObjParser {
 
   void line(std::string_view line) {
     ++lineNumber_;
+    if (lineNumber_ == 1) line = withoutUtf8Bom(line);
     if (line.size() > kMaxObjLineBytes)
       fail("line longer than " + std::to_string(kMaxObjLineBytes) + " bytes");
     size_t hash = line.find('#');

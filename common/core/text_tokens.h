@@ -6,6 +6,13 @@
 
 namespace tdvo {
 
+// `text` without a UTF-8 byte-order mark at its start: some Windows editors write one, and it
+// is no part of the first line of a text file (cfg files, OBJ, GOM lists, calibration files;
+// readTextFile in file_io.h).
+inline std::string_view withoutUtf8Bom(std::string_view text) {
+  return text.substr(0, 3) == "\xEF\xBB\xBF" ? text.substr(3) : text;
+}
+
 // Whitespace within a line (the line end '\n' is the readers' own concern).
 inline bool isSpace(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';

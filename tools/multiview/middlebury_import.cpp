@@ -26,9 +26,7 @@ double parseNumber(const std::string& token, const std::string& where) {
 }  // namespace
 
 Dataset importMiddlebury(const std::string& parFile) {
-  const std::vector<uint8_t> bytes =
-      readFileBytes(parFile, kMaxTextFileBytes, "a calibration file");
-  std::istringstream in(std::string(bytes.begin(), bytes.end()));
+  std::istringstream in(readTextFile(parFile, kMaxTextFileBytes, "a calibration file"));
   const fs::path folder = fs::path(parFile).parent_path();
   Dataset d;
   d.folder = folder.empty() ? "." : folder.generic_string();

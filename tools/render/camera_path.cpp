@@ -146,8 +146,7 @@ std::vector<Camera> readPoses(const std::string& path, const Camera& intrinsics,
       poses.push_back(c.camera);
     return poses;
   }
-  const std::vector<uint8_t> bytes = readFileBytes(path, kMaxTextFileBytes, "a camera path");
-  std::istringstream in(std::string(bytes.begin(), bytes.end()));
+  std::istringstream in(readTextFile(path, kMaxTextFileBytes, "a camera path"));
   std::string line;
   int lineNumber = 0;
   while (std::getline(in, line)) {
