@@ -235,6 +235,17 @@ TEST(Config, Utf8ByteOrderMarkIsAccepted) {
             0u);
 }
 
+// An error quotes input; its control characters are shown as \xNN, so the message is one whole
+// line: a NUL in a cfg value cut the printed line short ("GridBits: '10"), an ESC reached the
+// terminal.
+TEST(Config, ErrorsShowControlCharactersAsHex) {
+  Params p;
+  EXPECT_EQ(p.textError(std::string("Bits : 1\0junk\n", 14)),
+            "a.cfg:1: Bits: '1\\x00junk' is not an integer");
+  EXPECT_EQ(p.textError("Bits : \x1b[31m\n"), "a.cfg:1: Bits: '\\x1b[31m' is not an integer");
+  EXPECT_EQ(std::string(Error("x.obj:3: '\x7f\t' ä").what()), "x.obj:3: '\\x7f\\x09' ä");
+}
+
 TEST(Config, VersionPrintsTheLibraries) {
   Params p;
   p.table.addVersionLines({"stream syntax version 7"});

@@ -141,17 +141,8 @@ void checkCameraName(const std::string& name, const std::string& where) {
   bool safe = !name.empty() && name != "." && name != ".." && name.size() <= 255;
   for (unsigned char c : name)
     safe = safe && c != '/' && c != '\\' && c >= 0x20 && c != 0x7f;
-  std::string shown;  // control characters as \xNN: the message stays one line
-  for (unsigned char c : name) {
-    if (c < 0x20 || c == 0x7f) {
-      char hex[8];
-      std::snprintf(hex, sizeof hex, "\\x%02x", c);
-      shown += hex;
-    } else {
-      shown += static_cast<char>(c);
-    }
-  }
-  check(safe, where + ": camera name '" + shown +
+  // Error shows control characters as \xNN (oneLine): the message stays one line.
+  check(safe, where + ": camera name '" + name +
                   "' cannot name a folder (it must be one file name: not '.' or '..', no '/', "
                   "'\\' or control characters, at most 255 bytes)");
 }
