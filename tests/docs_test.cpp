@@ -1,0 +1,82 @@
+// The documentation against the apps (docs/options.md says this test exists): every cfg key that
+// 3dvo-enc and 3dvo-dec --help list has a row on docs/options.md and every row there is a key of
+// the app, and every app takes --help and --version (docs/user-guide.md, "Every app").
+#include <gtest/gtest.h>
+
+#include <regex>
+#include <set>
+#include <string>
+
+#include "tests/test_support.h"
+
+namespace tdvo {
+namespace {
+
+const std::string kBin = TDVO_BIN_DIR;
+
+// The keys --help lists: lines "  Key ..." (two spaces, a capital letter).
+std::set<std::string> helpKeys(const std::string& app) {
+  test::TempDir dir("docs-help");
+  const test::CommandResult r = test::run(dir, kBin + "/" + app, {"--help"});
+  EXPECT_EQ(r.exitCode, 0) << app << ": " << r.err;
+  std::set<std::string> keys;
+  const std::regex line("^  ([A-Z][A-Za-z0-9]*)( |$)");
+  size_t start = 0;
+  while (start < r.out.size()) {
+    size_t end = r.out.find('\n', start);
+    if (end == std::string::npos) end = r.out.size();
+    std::smatch m;
+    const std::string text = r.out.substr(start, end - start);
+    if (std::regex_search(text, m, line)) keys.insert(m[1]);
+    start = end + 1;
+  }
+  return keys;
+}
+
+// The keys of docs/options.md's rows ("| `Key` ..." in the tables) under "## <app>".
+std::set<std::string> pageKeys(const std::string& app) {
+  const std::string page = test::readText(std::string(TDVO_SOURCE_DIR) + "/docs/options.md");
+  const size_t from = page.find("\n## " + app + "\n");
+  EXPECT_NE(from, std::string::npos) << "docs/options.md has no section ## " << app;
+  if (from == std::string::npos) return {};
+  size_t to = page.find("\n## ", from + 1);
+  if (to == std::string::npos) to = page.size();
+  const std::string section = page.substr(from, to - from);
+  std::set<std::string> keys;
+  const std::regex row("\n\\| `([A-Za-z0-9]+)`");
+  for (std::sregex_iterator it(section.begin(), section.end(), row), end; it != end; ++it)
+    keys.insert((*it)[1]);
+  return keys;
+}
+
+void expectSameKeys(const std::string& app) {
+  const std::set<std::string> help = helpKeys(app), page = pageKeys(app);
+  EXPECT_GT(help.size(), 10u) << app << " --help was not read";
+  for (const std::string& key : help)
+    EXPECT_TRUE(page.count(key)) << app << " key " << key << " has no row in docs/options.md";
+  for (const std::string& key : page)
+    EXPECT_TRUE(help.count(key)) << "docs/options.md row " << key << " is not a key of " << app;
+}
+
+TEST(Docs, EveryEncoderKeyHasARowInOptionsAndEveryRowIsAKey) {
+  expectSameKeys("3dvo-enc");
+}
+
+TEST(Docs, EveryDecoderKeyHasARowInOptionsAndEveryRowIsAKey) {
+  expectSameKeys("3dvo-dec");
+}
+
+TEST(Docs, EveryAppTakesHelpAndVersion) {
+  test::TempDir dir("docs-apps");
+  for (const char* app : {"3dvo-enc", "3dvo-dec", "3dvo-metrics", "3dvo-render", "3dvo-recon",
+                          "3dvo-import", "3dvo-synth", "3dvo-sample", "3dvo-play", "3dvo-rd"}) {
+    for (const char* option : {"--help", "-h", "--version"}) {
+      const test::CommandResult r = test::run(dir, kBin + "/" + app, {option});
+      EXPECT_EQ(r.exitCode, 0) << app << " " << option << ": " << r.err;
+      EXPECT_FALSE(r.out.empty()) << app << " " << option;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tdvo
