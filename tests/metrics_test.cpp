@@ -615,6 +615,37 @@ TEST(MetricsApp, NoFramesToCompareNamesTheMissingSide) {
   EXPECT_FALSE(std::filesystem::exists(fx.dir.file("m.csv")));
 }
 
+// --CsvFile naming an input (a compared mesh, the GroupStarts file, a cfg file; under another
+// name or a link) is refused before anything is written, and the input is left as it was: the
+// CSV table replaced the reference mesh.
+TEST(MetricsApp, CsvFileThatIsAnInputIsRefused) {
+  AppFixture fx;
+  test::writeText(fx.dir.file("starts.txt"), "0\n");
+  test::writeText(fx.dir.file("m.cfg"), "Relative : false\n");
+  std::filesystem::create_symlink("out/0001.obj", fx.dir.file("link.csv"));
+  const std::vector<std::vector<std::string>> runs = {
+      {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t", "out/%04d.obj",
+       "--CsvFile=ref_2.obj.gz"},
+      {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t", "out/%04d.obj",
+       "--CsvFile=./out/../out/0002.obj"},
+      {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t", "out/%04d.obj",
+       "--CsvFile=link.csv"},
+      {"-r", "ref_%d.obj.gz", "--ReferenceFirstFrame=1", "-t", "out/%04d.obj",
+       "--Correspondence=nearest", "--GroupStarts=starts.txt", "--CsvFile=starts.txt"},
+      {"-c", "m.cfg", "-r", "ref_1.obj.gz", "-t", "out/0000.obj", "--CsvFile=m.cfg"},
+      {"-r", "ref_1.obj.gz", "-t", "out/0000.obj", "--CsvFile=out/0000.obj"}};
+  for (const std::vector<std::string>& args : runs) {
+    const std::string csv = args.back().substr(std::string("--CsvFile=").size());
+    const std::string target = csv == "link.csv" ? "out/0001.obj" : csv;
+    const std::string before = test::readText(fx.dir.file(target));
+    const test::CommandResult r = test::run(fx.dir, kApp, args);
+    EXPECT_EQ(r.exitCode, 1) << csv;
+    EXPECT_NE(r.err.find(csv + ": is the input "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("refusing to overwrite it"), std::string::npos) << r.err;
+    EXPECT_EQ(test::readText(fx.dir.file(target)), before) << csv;
+  }
+}
+
 TEST(MetricsApp, IdentityCorrespondenceSeesTheShuffle) {
   AppFixture fx;
   const test::CommandResult r = test::run(fx.dir, kApp,

@@ -160,6 +160,31 @@ void makeDataset(const test::TempDir& dir, const std::string& name, int frames, 
   }
 }
 
+// --CsvFile naming an input (a dataset.json, a compared image; under another name or a link) is
+// refused before anything is written, and the input is left as it was: it was replaced by the
+// CSV table.
+TEST(TextureMetricsApp, CsvFileThatIsAnInputIsRefused) {
+  test::TempDir dir("texture-metrics-csv");
+  makeDataset(dir, "ref", 2, false, [](int, int, int) {
+    return std::array<uint8_t, 4>{100, 100, 100, 255};
+  });
+  makeDataset(dir, "dec", 2, true, [](int, int, int) {
+    return std::array<uint8_t, 4>{100, 100, 100, 255};
+  });
+  std::filesystem::create_symlink("ref/cam/0001.png", dir.file("link.csv"));
+  for (const std::string csv :
+       {"ref/dataset.json", "./dec/../dec/dataset.json", "dec/cam/0000.png", "link.csv"}) {
+    const std::string target = csv == "link.csv" ? "ref/cam/0001.png" : csv;
+    const std::string before = test::readText(dir.file(target));
+    const auto r = test::run(dir, kBin + "/3dvo-metrics",
+                             {"--ReferenceDataset=ref", "--TestDataset=dec", "--CsvFile=" + csv});
+    EXPECT_EQ(r.exitCode, 1) << csv;
+    EXPECT_NE(r.err.find(csv + ": is the input "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("refusing to overwrite it"), std::string::npos) << r.err;
+    EXPECT_EQ(test::readText(dir.file(target)), before) << csv;
+  }
+}
+
 TEST(TextureMetricsApp, HandMadeDatasetsGiveTheClosedFormPsnr) {
   test::TempDir dir("texture-metrics");
   // Reference: grey 100. Test frame f: inside the shape (x < 4, alpha 255) grey 100 + 2 (f + 1),

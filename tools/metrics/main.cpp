@@ -142,6 +142,12 @@ int main(int argc, char** argv) {
     table.addVersionLines({"stream syntax version " + std::to_string(kSyntaxVersion)});
     table.addVersionLines(mediaLibraryVersions());
     if (!table.parseCommandLine(argc, argv)) return 0;
+    if (!p.csvFile.empty()) {  // nor a cfg file (the inputs of each kind of run: below)
+      InputFiles cfgs;
+      for (const std::string& cfg : table.filesRead())
+        cfgs.add(cfg);
+      cfgs.checkOutput(p.csvFile);
+    }
     if (!p.texture.referenceDataset.empty() || !p.texture.testDataset.empty()) {
       check(p.referenceMeshes.empty() && p.testMeshes.empty(),
             "give meshes (ReferenceMeshes, TestMeshes) or datasets (ReferenceDataset, "
@@ -207,6 +213,17 @@ int main(int argc, char** argv) {
       }
     }
     const size_t frames = referencePaths.size();
+    // The CSV file may not replace an input (docs/user-guide.md, "Output files"): the meshes
+    // compared and the GroupStarts file, by file identity, before any is read.
+    if (!p.csvFile.empty()) {
+      InputFiles inputs;
+      inputs.add(p.groupStarts);
+      for (size_t k = 0; k < frames; ++k) {
+        inputs.add(referencePaths[k]);
+        inputs.add(testPaths[k]);
+      }
+      inputs.checkOutput(p.csvFile);
+    }
     // Where the groups of the nearest correspondence start (positions k in the comparison).
     check(p.groupStarts.empty() || p.groupSize == 1, "give GroupSize or GroupStarts, not both");
     std::vector<bool> groupStarts(frames, false);
