@@ -650,6 +650,51 @@ TEST(Mp4Writer, PlantedPartialLinkIsNotFollowedAndALinkedOutputKeepsItsLink) {
             (std::vector<std::string>{"out.mp4", "out.mp4.partial", "target.mp4", "victim"}));
 }
 
+// --Csv and --Mp4 naming an input (a camera image, a mask, a mesh, dataset.json, a cfg file,
+// the poses; under another name or a link) are refused before anything is written, and the
+// input is left as it was: --Csv replaced the camera image with the table.
+TEST_F(SynthRig, OutputFileThatIsAnInputIsRefused) {
+  test::TempDir dir("app-inputs");
+  fs::copy(folder_->file("rig"), dir.file("rig"), fs::copy_options::recursive);
+  test::writeText(dir.file("r.cfg"), "Width : 32\n");
+  test::writeText(dir.file("poses.txt"), "0 0 5  0 0 0\n");
+  fs::create_symlink("rig/cam01/mask_0000.png", dir.file("link.csv"));
+  const std::string app = std::string(TDVO_BIN_DIR) + "/3dvo-render";
+  const std::vector<std::string> loo = {"-i", "rig", "--Mode=leave-one-out", "--FrameCount=1",
+                                        "--Cameras=cam00,cam02,cam04,cam06"};
+  struct Case {
+    std::vector<std::string> extra;
+    std::string output, target;
+  };
+  const std::vector<Case> cases = {
+      {{"--Csv=rig/cam02/0000.png"}, "rig/cam02/0000.png", "rig/cam02/0000.png"},
+      {{"--Csv=./rig/../rig/dataset.json"}, "./rig/../rig/dataset.json", "rig/dataset.json"},
+      {{"--Csv=link.csv"}, "link.csv", "rig/cam01/mask_0000.png"},
+      {{"--Csv=rig/meshes/0000.obj"}, "rig/meshes/0000.obj", "rig/meshes/0000.obj"},
+      {{"--Reference=rig", "--Csv=rig/cam04/0000.png"}, "rig/cam04/0000.png", "rig/cam04/0000.png"},
+      {{"-c", "r.cfg", "--Csv=r.cfg"}, "r.cfg", "r.cfg"}};
+  for (const Case& c : cases) {
+    std::vector<std::string> args = loo;
+    args.insert(args.end(), c.extra.begin(), c.extra.end());
+    const std::string before = test::readText(dir.file(c.target));
+    const test::CommandResult r = test::run(dir, app, args);
+    EXPECT_EQ(r.exitCode, 1) << c.output << ": " << r.out;
+    EXPECT_NE(r.err.find(c.output + ": is the input "), std::string::npos) << r.err;
+    EXPECT_EQ(test::readText(dir.file(c.target)), before) << c.output;
+  }
+  for (const std::string mp4 : {"rig/cam03/0001.png", "poses.txt"}) {
+    const std::string before = test::readText(dir.file(mp4));
+    const test::CommandResult r =
+        test::run(dir, app,
+                  {"-i", "rig", "-o", "out", "--Path=poses", "--Poses=poses.txt", "--Width=32",
+                   "--Height=24", "--Mp4=" + mp4});
+    EXPECT_EQ(r.exitCode, 1) << mp4;
+    EXPECT_NE(r.err.find(mp4 + ": is the input "), std::string::npos) << r.err;
+    EXPECT_EQ(test::readText(dir.file(mp4)), before) << mp4;
+    EXPECT_FALSE(fs::exists(dir.file("out")));
+  }
+}
+
 TEST_F(SynthRig, AppRendersOrbitsLeaveOneOutAndReportsBadInput) {
   test::TempDir dir("app");
   const std::string app = std::string(TDVO_BIN_DIR) + "/3dvo-render";

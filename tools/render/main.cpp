@@ -202,6 +202,36 @@ std::vector<int> selectFrames(const Dataset& d, int first, int count) {
   return frames;
 }
 
+// An output file (Mp4, Csv) may not replace an input (docs/user-guide.md, "Output files"),
+// under any name or link: `files` (the cfg files, the poses), and of each dataset its
+// dataset.json and the meshes and camera files (of every camera, also those not selected) of
+// the frames used (`frames`: indices of datasets[0]; another dataset's frames are those of the
+// same frame numbers).
+void checkNotAnInput(const std::string& output, const std::vector<const Dataset*>& datasets,
+                     const std::vector<int>& frames, const std::vector<std::string>& files) {
+  if (output.empty()) return;
+  InputFiles inputs;
+  for (const std::string& file : files)
+    inputs.add(file);
+  for (const Dataset* d : datasets) {
+    inputs.add(d->resolve(kDatasetFileName));
+    std::vector<const std::string*> patterns = {&d->meshes};
+    for (const DatasetCamera& c : d->cameras)
+      for (const std::string* file :
+           {&c.images, &c.video, &c.masks, &c.background, &c.backgroundVideo})
+        patterns.push_back(file);
+    for (const std::string* pattern : patterns)
+      for (const int f : frames) {
+        const int64_t index = int64_t{datasets[0]->firstFrame} + f - d->firstFrame;
+        if (pattern->empty()) break;
+        if (index < 0 || index >= d->frameCount) continue;
+        inputs.add(d->framePath(*pattern, static_cast<int>(index)));
+        if (!hasFrameConversion(*pattern)) break;
+      }
+  }
+  inputs.checkOutput(output);
+}
+
 void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames) {
   check(!p.output.empty(), "no output folder given (-o DIR)");
   checkFramePattern(p.outputPattern, "OutputPattern");
@@ -295,8 +325,11 @@ int main(int argc, char** argv) {
     check(!d.meshes.empty(), p.input + ": the dataset has no meshes; the renderer needs the " +
                                  "object's surface (\"meshes\" in dataset.json)");
     const std::vector<int> frames = selectFrames(d, p.firstFrame, p.frameCount);
+    std::vector<std::string> inputFiles = table.filesRead();
+    inputFiles.push_back(p.poses);
 
     if (p.mode == Mode::render) {
+      checkNotAnInput(p.mp4, {&full}, frames, inputFiles);
       runRender(p, d, frames);
     } else {
       check(d.cameras.size() >= 2, "leave-one-out needs at least two cameras");
@@ -307,6 +340,7 @@ int main(int argc, char** argv) {
         reference = readDataset(p.reference);
         inputs.push_back(p.reference);
       }
+      checkNotAnInput(p.csv, {&full, reference ? &*reference : &full}, frames, inputFiles);
       const std::vector<LeaveOneOutRow> rows =
           leaveOneOut(d, frames, p.render, p.saveRenders ? p.output : "", p.overwrite, inputs,
                       reference ? &*reference : nullptr);
