@@ -231,6 +231,11 @@ class RecordingReaderIo {
     }
     value = magnitude != 0 && bypass() ? -int32_t(magnitude) : int32_t(magnitude);
   }
+  void signedUeg3(const char* const names[3], ContextModel* const ctxs[3], int numCtx, int k,
+                  uint32_t uCoff, int32_t (&values)[3], int32_t maxAbs) {
+    for (int c = 0; c < 3; ++c)
+      signedUeg(names[c], ctxs[c], numCtx, k, uCoff, values[c], maxAbs);
+  }
   void require(bool condition, const char* what) const {
     if (!condition) throw Error(std::string("bench recording: ") + what);
   }

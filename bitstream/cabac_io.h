@@ -31,6 +31,13 @@ class CabacWriterIo {
     if (trace_) std::fprintf(trace_, "  %-32s = %d\n", name, value);
     encodeSignedUEGk(encoder_, ctxs, numCtx, value, k, uCoff);
   }
+  // Three signed values with one binarisation, each with its own contexts (a vector's
+  // components), coded one after the other as by three signedUeg calls.
+  void signedUeg3(const char* const names[3], ContextModel* const ctxs[3], int numCtx, int k,
+                  uint32_t uCoff, int32_t (&values)[3], int32_t maxAbs) {
+    for (int c = 0; c < 3; ++c)
+      signedUeg(names[c], ctxs[c], numCtx, k, uCoff, values[c], maxAbs);
+  }
   void require(bool condition, const char* what) const {
     if (!condition) throw std::logic_error(std::string("writing: ") + what);
   }
@@ -69,6 +76,35 @@ class CabacReaderIo {
     if (value < -maxAbs || value > maxAbs) failRange(name, value, maxAbs);
     // A payload read past its end decodes to zeros forever; stop as soon as that happens.
     if (decoder_.overrun()) failElement(name, "payload ends early (truncated)");
+  }
+  // As three signedUeg calls (a vector's components, each with its own contexts), on one
+  // engine: its registers stay in CPU registers from the first bin to the last. The cold paths
+  // write them back before they report the byte offset.
+  __attribute__((always_inline)) void signedUeg3(const char* const names[3],
+                                                 ContextModel* const ctxs[3], int numCtx, int k,
+                                                 uint32_t uCoff, int32_t (&values)[3],
+                                                 int32_t maxAbs) {
+    for (int c = 0; c < 3; ++c)
+      cabac::checkUegkArguments(ctxs[c], numCtx, k, uCoff);
+    CabacDecoder::LocalEngine engine(decoder_);
+    for (int c = 0; c < 3; ++c) {
+      int32_t& value = values[c];
+      try {
+        value = cabac::decodeSignedUEGk(engine, ctxs[c], numCtx, k, uCoff);
+      } catch (const Error& e) {
+        engine.sync();
+        failElement(names[c], e.what());
+      }
+      if (trace_) std::fprintf(trace_, "  %-32s = %d\n", names[c], value);
+      if (value < -maxAbs || value > maxAbs) {
+        engine.sync();
+        failRange(names[c], value, maxAbs);
+      }
+      if (engine.overrun()) {
+        engine.sync();
+        failElement(names[c], "payload ends early (truncated)");
+      }
+    }
   }
   void require(bool condition, const char* what) const {
     if (!condition) fail(what);

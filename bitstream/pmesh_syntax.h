@@ -188,17 +188,19 @@ void codePMesh(Io& io, Decider& decider, const GomTopology& topology,
     const uint32_t v = topology.order[r];
     // Scalars until all three are known: a vector assembled in memory lane by lane would be
     // read back before the stores could be forwarded to it.
-    int32_t motion[3], absResidual[3];
+    int32_t residual[3] = {0, 0, 0}, motion[3], absResidual[3];
+    ContextModel* contexts[3];
     for (int c = 0; c < 3; ++c) {
-      int32_t residual = 0;
-      if (!Io::kReading) residual = decider.residual(v, c, prediction[c]);
-      const int cls = residualClass(around.count(), around.sums[c]);
-      io.signedUeg(kResidualNames[c], ctx.residual[cls][c], PMeshContexts::kResidualCtx,
-                   PMeshContexts::kResidualK, PMeshContexts::kResidualCutoff, residual, kMaxMotion);
-      const int64_t m = int64_t{prediction[c]} + quantStep * residual;
+      if (!Io::kReading) residual[c] = decider.residual(v, c, prediction[c]);
+      contexts[c] = ctx.residual[residualClass(around.count(), around.sums[c])][c];
+    }
+    io.signedUeg3(kResidualNames, contexts, PMeshContexts::kResidualCtx, PMeshContexts::kResidualK,
+                  PMeshContexts::kResidualCutoff, residual, kMaxMotion);
+    for (int c = 0; c < 3; ++c) {
+      const int64_t m = int64_t{prediction[c]} + quantStep * residual[c];
       io.require(m >= -kMaxMotion && m <= kMaxMotion, "decoded motion out of range");
       motion[c] = static_cast<int32_t>(m);
-      absResidual[c] = residual < 0 ? -residual : residual;
+      absResidual[c] = residual[c] < 0 ? -residual[c] : residual[c];
     }
     sv.motion = Lanes4{motion[0], motion[1], motion[2], -1};
     sv.absResidual = Lanes4{absResidual[0], absResidual[1], absResidual[2], 1};

@@ -224,16 +224,19 @@ void MortonOctree::sortItems(const std::vector<Vec3i>& positions, std::vector<It
   scratch.resize(n);
   vertices_.resize(n);
   const int indexBits = indexBits_;
-  // LSD radix sort of the keys, 12 bits per pass (at most 5 for 20-bit grids); the histograms
+  // LSD radix sort of the keys, 12 bits per pass (at most 4 for 20-bit grids); the histograms
   // of all passes are counted while the keys are made. A pass over a digit that every key
-  // shares is skipped. The first pass, the lowest 12 bits (the 4 deepest levels), is left to
-  // split() when there are others.
+  // shares is skipped. On grids of more than 4 bits the lowest bits, of the deepest levels
+  // that few cells reach, are left to split(): 3 * gridBits - 12 * passes of them, 12 to 21
+  // (4 to 7 levels; as many as leave whole 12-bit digits above them, so that a 13-bit grid
+  // takes two passes, not three).
   constexpr int kDigitBits = 12;
   constexpr uint32_t kBuckets = 1u << kDigitBits;
   constexpr uint64_t kDigit = kBuckets - 1;
-  const int passes = (3 * gridBits_ + kDigitBits - 1) / kDigitBits;
-  const int firstPass = passes > 1 ? 1 : 0;
-  unsortedDepth_ = firstPass == 1 ? gridBits_ - kDigitBits / 3 : gridBits_;
+  const int keyBits = 3 * gridBits_;
+  const int passes = keyBits <= kDigitBits ? 1 : std::max(1, (keyBits - kDigitBits) / kDigitBits);
+  const int unsortedBits = keyBits <= kDigitBits ? 0 : keyBits - passes * kDigitBits;
+  unsortedDepth_ = gridBits_ - unsortedBits / 3;
   counts_.assign(size_t(passes) * kBuckets, 0u);
   uint32_t* const counts = counts_.data();
   Item* from = items.data();
@@ -249,11 +252,11 @@ void MortonOctree::sortItems(const std::vector<Vec3i>& positions, std::vector<It
                            spread(uint32_t(p[2]) & mask);
       from[v] = Item{key} << indexBits | v;
       // Unrolled: a loop over the passes costs more than the counting.
-      if (firstPass == 0) ++counts[key & kDigit];
-      if (passes > 1) ++counts[kBuckets + (key >> kDigitBits & kDigit)];
-      if (passes > 2) ++counts[2 * kBuckets + (key >> (2 * kDigitBits) & kDigit)];
-      if (passes > 3) ++counts[3 * kBuckets + (key >> (3 * kDigitBits) & kDigit)];
-      if (passes > 4) ++counts[4 * kBuckets + (key >> (4 * kDigitBits) & kDigit)];
+      const uint64_t sorted = key >> unsortedBits;
+      ++counts[sorted & kDigit];
+      if (passes > 1) ++counts[kBuckets + (sorted >> kDigitBits & kDigit)];
+      if (passes > 2) ++counts[2 * kBuckets + (sorted >> (2 * kDigitBits) & kDigit)];
+      if (passes > 3) ++counts[3 * kBuckets + (sorted >> (3 * kDigitBits) & kDigit)];
     }
   };
   if (gridBits_ <= 16) {
@@ -261,8 +264,8 @@ void MortonOctree::sortItems(const std::vector<Vec3i>& positions, std::vector<It
   } else {
     makeKeys(spreadBits3Of24);
   }
-  for (int pass = firstPass; pass < passes; ++pass) {
-    const int shift = indexBits + pass * kDigitBits;
+  for (int pass = 0; pass < passes; ++pass) {
+    const int shift = indexBits + unsortedBits + pass * kDigitBits;
     uint32_t* const count = counts + size_t(pass) * kBuckets;
     if (n == 0 || count[uint32_t(from[0] >> shift) & (kBuckets - 1)] == n) continue;
     uint32_t sum = 0;

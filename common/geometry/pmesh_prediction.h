@@ -226,8 +226,9 @@ class MortonOctree {
   // positions stay in index order). As in OctreePartition, only the low gridBits bits of each
   // coordinate count (grid positions lie in [0, 2^gridBits)). gridBits <= 20 (else throws
   // std::invalid_argument), as for any 3DVO grid.
-  // On grids of more than 4 bits the sort leaves out the digits of the 4 deepest levels, which
-  // few cells reach: split() sorts a cell of depth gridBits - 4 by them when it splits it.
+  // On grids of more than 4 bits the sort leaves out the digits of the 4 to 7 deepest levels
+  // (sortItems says how many), which few cells reach: split() sorts a cell of the first such
+  // depth by them when it splits it.
   void build(const std::vector<Vec3i>& positions, int gridBits);
   // The sorted vertex indices; a cell is a range [begin, end) of this array.
   uint32_t* vertices() { return vertices_.data(); }
