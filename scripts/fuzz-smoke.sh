@@ -8,6 +8,7 @@ targets=(stream units imesh pmesh cfg obj ply gltf dataset png texture draco arr
 mapfile -t packages < <(grep -v '^\s*#' scripts/packages.txt | grep -v '^\s*$')
 bash scripts/apt-install.sh "${packages[@]}" clang libclang-rt-14-dev llvm
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTDVO_FUZZ=ON \
+  -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
   -DTDVO_BUILD_TESTS=OFF -DTDVO_BUILD_BENCHMARKS=OFF > /dev/null
 cmake --build build-fuzz -j "$(nproc)" --target fuzz_make_corpus \
   $(printf 'fuzz_%s ' "${targets[@]}")
