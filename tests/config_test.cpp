@@ -246,6 +246,24 @@ TEST(Config, ErrorsShowControlCharactersAsHex) {
   EXPECT_EQ(std::string(Error("x.obj:3: '\x7f\t' ä").what()), "x.obj:3: '\\x7f\\x09' ä");
 }
 
+// Bytes that are not well-formed UTF-8 (a Latin-1 name, a binary token, an overlong form, a
+// surrogate, a cut sequence) and the C1 controls (CSI, U+009B) are shown as \xNN too; well-formed
+// text of every length (2, 3 and 4 bytes) is kept.
+TEST(Config, ErrorsShowBytesThatAreNotUtf8AsHex) {
+  const auto shown = [](const std::string& s) { return std::string(Error(s).what()); };
+  EXPECT_EQ(shown("caf\xe9.obj"), "caf\\xe9.obj");               // Latin-1
+  EXPECT_EQ(shown("\xc0\xaf"), "\\xc0\\xaf");                    // overlong '/'
+  EXPECT_EQ(shown("\xed\xa0\x80"), "\\xed\\xa0\\x80");           // a surrogate
+  EXPECT_EQ(shown("\xf4\x90\x80\x80"), "\\xf4\\x90\\x80\\x80");  // above U+10FFFF
+  EXPECT_EQ(shown("a\xe2\x82"), "a\\xe2\\x82");                  // cut at the end
+  EXPECT_EQ(shown("\xe2\x82z"), "\\xe2\\x82z");                  // cut by ASCII
+  EXPECT_EQ(shown("\xc2\x9b"
+                  "31m"),
+            "\\xc2\\x9b31m");  // C1 CSI
+  EXPECT_EQ(shown("\xc2\xa0\xe2\x82\xac\xf0\x9f\x99\x82"),
+            "\xc2\xa0\xe2\x82\xac\xf0\x9f\x99\x82");  // NBSP, euro sign, emoji kept
+}
+
 TEST(Config, VersionPrintsTheLibraries) {
   Params p;
   p.table.addVersionLines({"stream syntax version 7"});

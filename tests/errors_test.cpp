@@ -1851,6 +1851,15 @@ CATALOGUE_TEST(F21) {
       {"--InputMeshPattern=in/%03d.gltf", "--FrameCount=1", "--GridBits=10", "-o", "out/x.3dvo"});
 }
 
+CATALOGUE_TEST(F22) {
+  // The file exists: it is refused for where it is, not read into the mesh.
+  nlohmann::json j = sphereGltf();
+  const nlohmann::json::number_unsigned_t length = j["buffers"][0]["byteLength"];
+  test::writeText(dir_.file("b.bin"), std::string(length, '\0'));
+  j["buffers"][0]["uri"] = "../b.bin";
+  expectRow("F22", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
+}
+
 // ---- cfg and options (3dvo-enc) ----
 
 CATALOGUE_TEST(C01) {

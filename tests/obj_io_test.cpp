@@ -304,9 +304,13 @@ TEST(ObjIoErrors, FaceIndexOutOfRange) {
             "mesh.obj:6: vertex index 99 out of range (the file has 3 vertices)");
   // Negative indices are resolved (and checked) where they stand.
   EXPECT_EQ(parseError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n"),
-            "mesh.obj:4: vertex index '-4' out of range");
+            "mesh.obj:4: vertex index '-4' out of range (a negative index counts back from the "
+            "3 vertices read so far)");
   EXPECT_EQ(parseError("v 0 0 0\nf 1 2 99999999999\n"),
-            "mesh.obj:2: vertex index '99999999999' out of range");
+            "mesh.obj:2: vertex index '99999999999' out of range (above 4294967295)");
+  EXPECT_EQ(parseError("v 0 0 0\nvt 0 0\nf 1/-2 1/1 1/1\n"),
+            "mesh.obj:3: texture coordinate index in '1/-2' out of range (a negative index counts "
+            "back from the 1 texture coordinate read so far)");
 }
 
 TEST(ObjIoErrors, UnknownStatement) {

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
+#include <string_view>
 #include <utility>
 
 #include "common/core/error.h"
@@ -82,11 +83,36 @@ struct Files {
   std::set<std::pair<dev_t, ino_t>> read;  // files read, each once
 };
 
+// Whether relative path `rel` stays in its folder: no ".." component leads above it.
+bool staysInFolder(const std::string& rel) {
+  long depth = 0;
+  size_t begin = 0;
+  while (begin <= rel.size()) {
+    size_t end = rel.find('/', begin);
+    if (end == std::string::npos) end = rel.size();
+    const std::string_view part(rel.data() + begin, end - begin);
+    if (part == "..") {
+      if (--depth < 0) return false;
+    } else if (!part.empty() && part != ".") {
+      ++depth;
+    }
+    begin = end + 1;
+  }
+  return true;
+}
+
 bool fileExists(const std::string& path, void* user) {
-  const Files& files = *static_cast<Files*>(user);
+  Files& files = *static_cast<Files*>(user);
   if (files.folder.empty()) return false;
-  // Only files in the glTF file's folder (tinygltf also tries the working directory).
+  // Only files in the glTF file's folder or below it (tinygltf also tries the working
+  // directory): a buffer uri such as "../../home/x" is refused, not read into the mesh.
   if (path.compare(0, files.folder.size() + 1, files.folder + "/") != 0) return false;
+  if (!staysInFolder(path.substr(files.folder.size() + 1))) {
+    if (files.error.empty())
+      files.error = "'" + path.substr(files.folder.size() + 1) +
+                    "' is outside the glTF file's folder (a buffer file must be in it or below it)";
+    return false;
+  }
   struct stat st;
   return ::stat(path.c_str(), &st) == 0;
 }

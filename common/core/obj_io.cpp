@@ -193,9 +193,15 @@ class ObjParser {
     auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), value);
     if (ec != std::errc() || ptr != part.data() + part.size() || value == 0)
       fail(std::string("bad ") + a.what + " index in '" + std::string(token) + "'");
-    if (value < 0) value += static_cast<long long>(count) + 1;
-    if (value < 1 || value > 0xFFFFFFFFLL)
-      fail(std::string(a.what) + " index in '" + std::string(token) + "' out of range");
+    if (value < 0) {
+      value += static_cast<long long>(count) + 1;
+      if (value < 1)
+        fail(std::string(a.what) + " index in '" + std::string(token) + "' out of range (" +
+             relativeIndexNote(count, a.what) + ")");
+    }
+    if (value > 0xFFFFFFFFLL)
+      fail(std::string(a.what) + " index in '" + std::string(token) +
+           "' out of range (above 4294967295)");
     if (a.state != 1) return;
     const uint32_t result = static_cast<uint32_t>(value - 1);
     if (result > a.maxIndex || a.maxIndexLine == 0) {
@@ -229,6 +235,15 @@ class ObjParser {
     return true;
   }
 
+  // Why a negative (relative) index is out of range: it counts back from the `count` values of
+  // its kind read so far.
+  static std::string relativeIndexNote(size_t count, const std::string& what) {
+    return "a negative index counts back from the " + std::to_string(count) + " " +
+           (what == "vertex" ? std::string(count == 1 ? "vertex" : "vertices")
+                             : what + (count == 1 ? "" : "s")) +
+           " read so far";
+  }
+
   uint32_t index(std::string_view token) {
     std::string_view first = token.substr(0, token.find('/'));
     long long value = 0;
@@ -236,9 +251,14 @@ class ObjParser {
     if (ec != std::errc() || ptr != first.data() + first.size() || value == 0)
       fail("bad vertex index '" + std::string(token) + "'");
     // Negative indices count back from the last vertex read so far.
-    if (value < 0) value += static_cast<long long>(mesh_.positions.size()) + 1;
-    if (value < 1 || value > 0xFFFFFFFFLL)
-      fail("vertex index '" + std::string(token) + "' out of range");
+    if (value < 0) {
+      value += static_cast<long long>(mesh_.positions.size()) + 1;
+      if (value < 1)
+        fail("vertex index '" + std::string(token) + "' out of range (" +
+             relativeIndexNote(mesh_.positions.size(), "vertex") + ")");
+    }
+    if (value > 0xFFFFFFFFLL)
+      fail("vertex index '" + std::string(token) + "' out of range (above 4294967295)");
     const uint32_t result = static_cast<uint32_t>(value - 1);
     if (result > maxIndex_ || maxIndexLine_ == 0) {
       maxIndex_ = result;
