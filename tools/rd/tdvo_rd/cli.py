@@ -7,7 +7,6 @@ import sys
 
 from . import job as job_module
 from . import security
-from .report import write_outputs
 from .runner import run_sweep
 from .sweep import Identity, Sweep, SweepError
 
@@ -106,6 +105,10 @@ def main(argv=None):
                 print("%-6s %s  %s / %s / %s" % (state, key[:16], j.sequence.name, j.mode.name,
                                                  j.setting_label))
             return 0
+        # The report's imports (numpy, scipy, matplotlib) are loaded here, not at start-up:
+        # --help and list need none of them, and run fails before its jobs, not after, when
+        # one is missing.
+        from .report import write_outputs
         if args.command == "run":
             try:
                 tls = security.tls_options(args.tls_ca_file, args.tls_cert, args.tls_key)

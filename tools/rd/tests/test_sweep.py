@@ -1,8 +1,11 @@
 """Sweep files: expansion into jobs, configuration merge order, errors, cache keys."""
 
 import os
+import subprocess
+import sys
 import textwrap
 
+from tests import support
 from tests.support import TempDirTestCase
 from tdvo_rd.sweep import Identity, Sweep, SweepError, read_cfg_file
 
@@ -202,6 +205,21 @@ class SweepTest(TempDirTestCase):
         os.unlink(os.path.join(self.bin, "3dvo-dec"))
         with self.assertRaisesRegex(SweepError, "3dvo-dec: no such executable"):
             Identity(self.bin)
+
+
+class StartUpTest(TempDirTestCase):
+    def test_help_and_list_need_no_report_packages(self):
+        # numpy, scipy and matplotlib made unimportable: --help still works (the report's
+        # packages are loaded only by run and report).
+        code = ("import runpy, sys\n"
+                "for name in ('numpy', 'scipy', 'matplotlib'):\n"
+                "    sys.modules[name] = None\n"
+                "sys.argv = [%r, '--help']\n"
+                "runpy.run_path(%r, run_name='__main__')\n" % (support.SCRIPT, support.SCRIPT))
+        result = subprocess.run([sys.executable, "-c", code], stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertIn("usage: 3dvo-rd", result.stdout)
 
 
 if __name__ == "__main__":
