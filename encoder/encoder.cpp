@@ -116,9 +116,12 @@ void checkFrame(const Mesh& mesh, const std::string& name) {
   check(mesh.triangles.size() <= kMaxTriangles,
         name + ": more than " + std::to_string(kMaxTriangles) + " triangles (the codec's limit)");
   for (size_t v = 0; v < mesh.positions.size(); ++v)
-    for (double c : mesh.positions[v])
-      check(std::isfinite(c) && std::fabs(c) <= 1e300,
+    for (double c : mesh.positions[v]) {
+      check(std::isfinite(c),
             name + ": vertex " + std::to_string(v) + " has a non-finite coordinate");
+      check(!isBeyondCoordinateRange(c), name + ": vertex " + std::to_string(v) + ": coordinate " +
+                                             coordinateText(c) + kBeyondCoordinateRange);
+    }
   checkIndices(mesh.triangles, mesh.positions.size(), name, "vertex", "vertices");
   // Texture coordinates and normals (mesh.h): one index triangle per triangle, indices within
   // the values, finite values.

@@ -268,6 +268,10 @@ TEST(ObjIoErrors, BadNumber) {
 TEST(ObjIoErrors, NonFiniteNumber) {
   EXPECT_EQ(parseError("v 0 0 0\nv nan 0 0\n"), "mesh.obj:2: non-finite number 'nan'");
   EXPECT_EQ(parseError("v 0 0 0\n\nv 0 inf 0\n"), "mesh.obj:3: non-finite number 'inf'");
+  // Finite, but beyond the range every reader takes (mesh.h, kMaxCoordinate).
+  EXPECT_EQ(parseError("v 0 0 -1e301\n"),
+            "mesh.obj:1: number '-1e301' is beyond ±1e300, 3DVO's coordinate range");
+  EXPECT_NO_THROW(parseObj("v 0 0 1e300\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "mesh.obj"));
 }
 
 TEST(ObjIoErrors, MissingCoordinates) {

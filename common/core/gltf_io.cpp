@@ -575,8 +575,11 @@ struct GltfFile::Impl {
         }
         for (size_t i = base; i < mesh.positions.size(); ++i)
           for (double c : mesh.positions[i])
-            if (!std::isfinite(c) || std::fabs(c) > 1e300)
+            if (!std::isfinite(c))
               fail(what + ": vertex " + std::to_string(i - base) + " is not finite");
+            else if (isBeyondCoordinateRange(c))
+              fail(what + ": vertex " + std::to_string(i - base) + ": coordinate " +
+                   coordinateText(c) + kBeyondCoordinateRange);
         if (uvs) readUvs(prim, v.count, what, mesh.attributes.uvs);
         if (normals) readNormals(prim, v.count, s.weights, what, mesh.attributes.normals);
         if (prim.indices >= 0) {

@@ -6,7 +6,10 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 namespace tdvo {
@@ -18,6 +21,23 @@ using Triangle = std::array<uint32_t, 3>;
 
 using Vec2f = std::array<float, 2>;
 using Vec3f = std::array<float, 3>;
+
+// The coordinates 3DVO takes (the mesh readers, frames given from memory): finite and at most
+// kMaxCoordinate in magnitude, so that the difference of two, a span, stays finite.
+constexpr double kMaxCoordinate = 1e300;
+
+// Whether a finite coordinate lies beyond kMaxCoordinate, which a message says with
+// `coordinateText(c) + kBeyondCoordinateRange` ("1e+301 is beyond ±1e300, ...").
+inline bool isBeyondCoordinateRange(double c) {
+  return std::isfinite(c) && std::fabs(c) > kMaxCoordinate;
+}
+constexpr const char* kBeyondCoordinateRange = " is beyond ±1e300, 3DVO's coordinate range";
+// A coordinate in a message, to 6 significant digits ("1e+301").
+inline std::string coordinateText(double c) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", c);
+  return text;
+}
 
 // Texture coordinates and normals of a mesh, each a list of values and one index triangle per
 // triangle of the mesh (corner c of triangle t takes uvs[uvTriangles[t][c]]), as OBJ's

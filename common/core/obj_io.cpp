@@ -164,8 +164,9 @@ class ObjParser {
     auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
     if (ec != std::errc() || ptr != token.data() + token.size())
       fail("bad number '" + std::string(token) + "'");
-    if (!(value == value) || value > 1e300 || value < -1e300)
-      fail("non-finite number '" + std::string(token) + "'");
+    if (!std::isfinite(value)) fail("non-finite number '" + std::string(token) + "'");
+    if (isBeyondCoordinateRange(value))
+      fail("number '" + std::string(token) + "'" + kBeyondCoordinateRange);
     return value;
   }
 

@@ -511,7 +511,9 @@ class PlyParser {
 
   void setCoordinate(Role role, double v) {
     if (role >= Role::kU) return setAttribute(role, static_cast<float>(v));
-    if (!(v == v) || v > 1e300 || v < -1e300) failHere("non-finite coordinate");
+    if (!std::isfinite(v)) failHere("non-finite coordinate");
+    if (isBeyondCoordinateRange(v))
+      failHere("coordinate " + coordinateText(v) + kBeyondCoordinateRange);
     vertex_[static_cast<int>(role) - static_cast<int>(Role::kX)] = v;
   }
 

@@ -86,6 +86,9 @@ Mesh frameMesh(const ArrayView& positions, const ArrayView& triangles, const std
                      : x > 0       ? "inf"
                                    : "-inf") +
                     ")");
+      if (isBeyondCoordinateRange(x))
+        throw Error(p + "[" + std::to_string(i) + ", " + std::to_string(c) +
+                    "] = " + coordinateText(x) + kBeyondCoordinateRange);
       mesh.positions[i][c] = x;
     }
 

@@ -111,6 +111,20 @@ def test_not_finite():
                 assert ROWS["PY07"] in message
 
 
+@row("PY18")
+def test_beyond_coordinate_range():
+    good = frame_with()
+    for value in (1e301, -1e301):
+        p = small_frame()[0]
+        p[5, 1] = value
+        with pytest.raises(tdvo.Error) as raised:
+            tdvo.encode([good, good, frame_with(positions=p)])
+        if value > 0:
+            assert ROWS["PY18"] in str(raised.value)
+        else:
+            assert str(raised.value).startswith("frame 2: positions[5, 1] = -1e+301 is beyond")
+
+
 @row("PY08")
 def test_index_out_of_range():
     _, t = small_frame()
