@@ -244,11 +244,8 @@ bool Decoder::next(DecodedFrame& frame) {
   s.nextIndex = index + 1;
   frame.mesh = *mesh;  // positions, triangles, texture coordinates and normals
   frame.positions.resize(mesh->positions.size());
-  for (size_t v = 0; v < mesh->positions.size(); ++v) {
-    const Vec3d p = s.info.grid.dequantise(mesh->positions[v]);
-    frame.positions[v] = {static_cast<float>(p[0]), static_cast<float>(p[1]),
-                          static_cast<float>(p[2])};
-  }
+  for (size_t v = 0; v < mesh->positions.size(); ++v)
+    frame.positions[v] = s.info.grid.dequantise(mesh->positions[v]);
   return true;
 }
 

@@ -54,8 +54,11 @@ struct DecodedFrame {
   uint32_t index = 0;  // the stream frame (0-based)
   // Grid integers, in the input's vertex order and triangle list (docs/bitstream.md 4.1).
   IntMesh mesh;
-  // The same positions as floats (origin + q * step), vertex for vertex.
-  std::vector<std::array<float, 3>> positions;
+  // The same positions in the input's units (grid.dequantise: origin + q * step, in double),
+  // vertex for vertex: the values 3dvo-dec writes. Double, not float: a float has 24 bits of
+  // mantissa, too few for a 20-bit grid away from the origin, and cannot hold coordinates
+  // beyond 3.4e38 or below 1.2e-38 (the codec takes up to 1e300).
+  std::vector<Vec3d> positions;
   // With a picture decoder and a textured stream: one per camera, in camera order.
   std::vector<DecodedTexture> textures;
 

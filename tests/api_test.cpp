@@ -127,7 +127,7 @@ TEST(DecoderApi, HeaderGomStartsAndPositions) {
       for (size_t v = 0; v < f.positions.size(); ++v) {
         const Vec3d p = info.grid.dequantise(meshes[k].positions[v]);
         for (int a = 0; a < 3; ++a)
-          EXPECT_EQ(f.positions[v][a], static_cast<float>(p[a]));
+          EXPECT_EQ(f.positions[v][a], p[a]);
       }
     }
   }

@@ -129,7 +129,15 @@ class WasmDecoder {
 
   // Decodes the next frame; false after the last one.
   bool next() {
-    return rethrowAsJs([&] { return decoder_.next(frame_); });
+    return rethrowAsJs([&] {
+      if (!decoder_.next(frame_)) return false;
+      // WebGL takes float32 vertices: the frame's double positions, rounded once here.
+      positions32_.resize(frame_.positions.size() * 3);
+      for (size_t v = 0; v < frame_.positions.size(); ++v)
+        for (size_t c = 0; c < 3; ++c)
+          positions32_[3 * v + c] = static_cast<float>(frame_.positions[v][c]);
+      return true;
+    });
   }
 
   double frameNumber() const { return static_cast<double>(frame_.number); }
@@ -137,11 +145,11 @@ class WasmDecoder {
   unsigned vertexCount() const { return static_cast<unsigned>(frame_.mesh.positions.size()); }
   unsigned triangleCount() const { return static_cast<unsigned>(frame_.mesh.triangles.size()); }
 
-  // Float32Array, x y z per vertex: the positions (origin + q * step).
+  // Float32Array, x y z per vertex: the positions (origin + q * step, computed in double and
+  // rounded to float for WebGL; gridPositions() and the grid give them exactly).
   emscripten::val positions() const {
     return emscripten::val(emscripten::typed_memory_view(
-        frame_.positions.size() * 3,
-        frame_.positions.empty() ? nullptr : frame_.positions[0].data()));
+        positions32_.size(), positions32_.empty() ? nullptr : positions32_.data()));
   }
   // Int32Array, x y z per vertex: the grid integers.
   emscripten::val gridPositions() const {
@@ -221,6 +229,7 @@ class WasmDecoder {
  private:
   Decoder decoder_;
   DecodedFrame frame_;
+  std::vector<float> positions32_;  // frame_.positions as float32, x y z per vertex
 };
 
 // md5Hex(bytes): the MD5 of a byte string, 32 lowercase hex digits.

@@ -2,7 +2,7 @@
 
     import tdvo
     for frame in tdvo.Decoder("object.3dvo"):
-        frame.positions      # float32 (N, 3), read-only view of the decoded frame
+        frame.positions      # float64 (N, 3), read-only view of the decoded frame
         frame.triangles      # uint32 (M, 3)
     coded = tdvo.encode([(positions, triangles), ...], {"GOMSize": 12, "GridBits": 12})
     open("x.3dvo", "wb").write(coded.stream)

@@ -80,12 +80,11 @@ def test_frame_arrays():
     frame = next(decoder)
     assert frame.number == 0 and frame.index == 0
     p, q, t = frame.positions, frame.grid_positions, frame.triangles
-    assert p.dtype == np.float32 and q.dtype == np.int32 and t.dtype == np.uint32
+    assert p.dtype == np.float64 and q.dtype == np.int32 and t.dtype == np.uint32
     assert p.shape == q.shape == (162, 3) and t.shape == (320, 3)
     assert t.max() < len(p)
-    # Positions are origin + q * step (computed in double, stored as float).
-    expected = (np.array(grid.origin) + q.astype(np.float64) * grid.step).astype(np.float32)
-    np.testing.assert_array_equal(p, expected)
+    # Positions are origin + q * step, in double: the values 3dvo-dec writes.
+    np.testing.assert_array_equal(p, np.array(grid.origin) + q.astype(np.float64) * grid.step)
     # Views of the frame's own memory: not owned, read-only, and they keep the frame alive.
     for a in (p, q, t):
         assert not a.flags.owndata and not a.flags.writeable and a.flags.c_contiguous

@@ -94,6 +94,24 @@ def test_numpy_sequence_equals_3dvo_enc(keys, tmp_path):
         assert np.abs(frame.positions - positions).max() < 0.05
 
 
+@pytest.mark.parametrize("offset, scale", [(1000.0, 1.0), (0.0, 1e299), (0.0, 1e-300)])
+def test_positions_keep_the_grid_precision(offset, scale):
+    """Decoded positions are the grid's values in double, so they stay within the grid's error
+    of the input also far from the origin (a float32 there is 30x coarser than a 20-bit grid
+    step) and at scales a float32 cannot hold."""
+    rng = np.random.default_rng(7)
+    positions = offset + scale * rng.random((198, 3))
+    triangles = np.arange(198).reshape(66, 3)
+    coded = tdvo.encode([(positions, triangles)], {"GridBits": 20, "GOMSize": 1})
+    decoder = tdvo.Decoder(coded.stream)
+    grid = decoder.info.grid
+    frame = next(decoder)
+    assert frame.positions.dtype == np.float64
+    np.testing.assert_array_equal(
+        frame.positions, np.array(grid.origin) + frame.grid_positions * grid.step)
+    assert np.abs(frame.positions - positions).max() <= 0.5 * grid.step * (1 + 1e-9)
+
+
 def test_inputs_of_every_kind():
     """Pairs as tuples or lists, arrays of any real dtype and any layout, lists of lists,
     decoded frames: the same frames give the same stream."""
