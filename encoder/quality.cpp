@@ -28,10 +28,12 @@ size_t randomAccessGoms(const EncoderParams& p, size_t frames) {
 }
 
 // Codes the first `count` frames as one GOM with candidate `c` and fills its extrapolated rate,
-// distortion and J.
+// distortion and J. Distances are in units of `unit` (the target step Δ), so that J stays
+// finite and ordered at any scale of the input (in world units, a squared distance overflows
+// beyond 1e154 and underflows below 1e-154).
 void measure(Candidate& c, const EncoderParams& params, const SequenceBounds& bounds,
              const std::vector<Mesh>& frames, const std::vector<std::string>& names,
-             size_t sequenceFrames, double lambda) {
+             size_t sequenceFrames, double unit, double lambda) {
   EncoderParams p = params;
   p.gridBits = c.gridBits;
   p.motionQuantStep = c.step;
@@ -50,8 +52,10 @@ void measure(Candidate& c, const EncoderParams& params, const SequenceBounds& bo
     for (size_t v = 0; v < recon[k].positions.size(); ++v) {
       const Vec3d decoded = grid.dequantise(recon[k].positions[v]);
       const Vec3d& original = frames[k].positions[input[v]];
-      for (int a = 0; a < 3; ++a)
-        frameError[k] += (decoded[a] - original[a]) * (decoded[a] - original[a]);
+      for (int a = 0; a < 3; ++a) {
+        const double d = decoded[a] / unit - original[a] / unit;
+        frameError[k] += d * d;
+      }
     }
   }
   // Frame 0 stands for the I meshes (with their vertex order and attributes), frames 1 .. n-1
@@ -152,10 +156,12 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
       frames.push_back(source.read(k));
       names.push_back(source.name ? source.name(k) : "frame " + std::to_string(k));
     }
-    const double lambda = std::log(2.0) / 6.0 * target * target;
+    // λ = (ln 2 / 6) Δ², in units of Δ² as the distortion.
+    const double unit = target > 0 ? target : 1.0;
+    const double lambda = std::log(2.0) / 6.0 * (target > 0 ? 1.0 : 0.0);
     QuietWarnings quiet;
     for (size_t i = 0; i < candidates.size(); ++i) {
-      measure(candidates[i], p, bounds, frames, names, source.count, lambda);
+      measure(candidates[i], p, bounds, frames, names, source.count, unit, lambda);
       if (candidates[i].j < candidates[best].j) best = i;
       char text[160];
       std::snprintf(text, sizeof text, "%sGridBits %d MotionQuantStep %d: %.4g kbit, J %.6g",

@@ -140,6 +140,29 @@ TEST(Quality, ChoosesTheCandidateOfLeastJAndReachesTheTargetStep) {
   }
 }
 
+TEST(Quality, TheChoiceDoesNotDependOnTheScale) {
+  // Scaled by powers of two, the frames quantise to the same integers on a scaled grid, so the
+  // trial codes the same streams: the same choice and the same J (in units of the target
+  // step), also where a squared distance in world units overflows (2^600) or underflows
+  // (2^-600).
+  const std::vector<Mesh> frames = walkingBlob(8, 0.05);
+  const Resolved reference = resolve(frames, 50);
+  const size_t trial = reference.report.find("(chosen");
+  ASSERT_NE(trial, std::string::npos) << reference.report;
+  for (int exponent : {600, -600}) {
+    std::vector<Mesh> scaled = frames;
+    for (Mesh& m : scaled)
+      for (Vec3d& position : m.positions)
+        for (double& c : position)
+          c = std::ldexp(c, exponent);
+    const Resolved r = resolve(scaled, 50);
+    EXPECT_EQ(r.params.gridBits, reference.params.gridBits) << r.report;
+    EXPECT_EQ(r.params.motionQuantStep, reference.params.motionQuantStep) << r.report;
+    EXPECT_EQ(r.report.substr(r.report.find("(chosen")), reference.report.substr(trial))
+        << "2^" << exponent;
+  }
+}
+
 TEST(Quality, HigherQualityIsAFinerStep) {
   const std::vector<Mesh> frames = walkingBlob(8, 0.05);
   double previous = 1e300;
