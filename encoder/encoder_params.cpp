@@ -138,6 +138,20 @@ void EncoderParams::registerOptions(OptionTable& t) {
         "optional: write the encoder's reconstruction as mesh frames (printf pattern filled "
         "with the input's frame numbers, like the decoder's output; OBJ, or PLY / glTF by a "
         ".ply, .gltf or .glb extension)");
+  // Keys whose being set changes what the encoder does (Encoder::params, resolveQuality): the
+  // effective configuration prints them as comments while unset, so that read back as a cfg
+  // file it gives the same run.
+  t.derivedWhenUnset("FirstFrame", "with a Dataset, its frames.first");
+  t.derivedWhenUnset("FrameRate", "with a Dataset, its frames.rate");
+  const std::string byQuality = "chosen by Quality unless Quality is -1";
+  t.derivedWhenUnset("GridFit", byQuality);
+  t.derivedWhenUnset("GridBits", byQuality + "; setting it codes by hand");
+  t.derivedWhenUnset("MotionQuantStep", byQuality + "; setting it codes by hand");
+  const std::string keyframes =
+      "Quality chooses keyframes by rate and distortion unless a keyframe key is set";
+  t.derivedWhenUnset("KeyframeCount", keyframes);
+  t.derivedWhenUnset("KeyframeMaxError", keyframes);
+  t.derivedWhenUnset("KeyframeLambda", keyframes);
 }
 
 double EncoderParams::effectiveLambda() const {

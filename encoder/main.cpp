@@ -1,4 +1,5 @@
 // 3dvo-enc: encodes an OBJ mesh sequence into a .3dvo stream.
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -174,6 +175,13 @@ int main(int argc, char** argv) {
     const double bits = 8.0 * coded.stream.size();
     std::printf("# summary\n");
     std::printf("frames              : %zu\n", source.count);
+    {
+      // The rate used (FrameRate, or the Dataset's), exact: the shortest text that reads back
+      // as the same double.
+      char rate[32];
+      const auto end = std::to_chars(rate, rate + sizeof rate, params.frameRate).ptr;
+      std::printf("frame rate          : %.*s\n", static_cast<int>(end - rate), rate);
+    }
     std::printf("stream              : %s\n", params.bitstreamFile.c_str());
     if (!encoder.qualityReport().empty())
       std::printf("quality             : %s\n", encoder.qualityReport().c_str());

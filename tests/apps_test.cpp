@@ -174,6 +174,41 @@ TEST_F(AppsTest, EncodeDecodeMd5LinesMatch) {
   EXPECT_EQ(test::listFolder(dir_.path()), expectedTop);
 }
 
+// The effective configuration 3dvo-enc prints, read back as a cfg file, gives the same run:
+// the keys Quality chooses stay unset (printed as comments), so it chooses them again, rather
+// than GridBits 12 and MotionQuantStep 1 being read as coding by hand.
+TEST_F(AppsTest, TheEffectiveConfigurationReproducesTheRun) {
+  const CommandResult first = test::run(
+      dir_, kEncoder, {"--InputMeshPattern=in/%03d.obj", "--FirstFrame=1", "-o", "a.3dvo"});
+  ASSERT_EQ(first.exitCode, 0) << first.err;
+  // The block: from its title line to the first empty line.
+  const std::string title = "# 3dvo-enc effective configuration\n";
+  const size_t start = first.out.find(title);
+  ASSERT_NE(start, std::string::npos) << first.out;
+  const size_t end = first.out.find("\n\n", start);
+  ASSERT_NE(end, std::string::npos) << first.out;
+  const std::string block = first.out.substr(start + title.size(), end + 1 - start - title.size());
+  EXPECT_NE(block.find("\n# GridBits                 : 12  (not set: chosen by Quality"),
+            std::string::npos)
+      << block;
+  EXPECT_NE(block.find("\nFirstFrame               : 1\n"), std::string::npos) << block;
+  test::writeText(dir_.file("effective.cfg"), block);
+  const CommandResult second = test::run(dir_, kEncoder, {"-c", "effective.cfg", "-o", "b.3dvo"});
+  ASSERT_EQ(second.exitCode, 0) << second.err;
+  const auto qualityLine = [](const std::string& out) {
+    return test::linesStartingWith(out, "quality ");
+  };
+  ASSERT_EQ(qualityLine(first.out).size(), 1u) << first.out;
+  EXPECT_EQ(qualityLine(second.out), qualityLine(first.out));
+  EXPECT_EQ(test::readBytes(dir_.file("b.3dvo")), test::readBytes(dir_.file("a.3dvo")));
+  // The summary gives the frame rate used, exactly (FrameRate is printed only when set).
+  EXPECT_EQ(test::linesStartingWith(first.out, "frame rate "),
+            std::vector<std::string>{"frame rate          : 25"});
+  const CommandResult ntsc = encode({"--FrameRate=29.97002997002997"});
+  EXPECT_EQ(test::linesStartingWith(ntsc.out, "frame rate "),
+            std::vector<std::string>{"frame rate          : 29.97002997002997"});
+}
+
 TEST_F(AppsTest, PMeshesAndGzipInput) {
   for (int f = 0; f < kFrames; ++f) {
     test::writeGz(inputPath(f + 1) + ".gz", formatObj(frames_[f]));

@@ -399,6 +399,59 @@ TEST(Config, EffectiveConfigIsAValidCfgFile) {
   EXPECT_EQ(q.table.effectiveConfig(), effective);
 }
 
+TEST(Config, CommentsStartAtAHashAfterABlank) {
+  Params p;
+  p.table.parseText(
+      "# a comment line\nInput : take#2/%03d.obj  # the second take\n"
+      "Bits : 14 #no blank after the hash\nOutput : # no value\n",
+      "a.cfg");
+  EXPECT_EQ(p.input, "take#2/%03d.obj");
+  EXPECT_EQ(p.bits, 14);
+  EXPECT_EQ(p.output, "");
+  EXPECT_EQ(p.textError("Bits : 14#c\n"), "a.cfg:1: Bits: '14#c' is not an integer");
+}
+
+TEST(Config, EffectiveConfigKeepsDerivedKeysUnset) {
+  Params p;
+  p.table.derivedWhenUnset("Bits", "chosen from the input");
+  p.table.derivedWhenUnset("Count", "the input's length");
+  ASSERT_TRUE(p.parse({"--Count=7"}));
+  const std::string effective = p.table.effectiveConfig();
+  // Unset and derived: a comment showing the default and why; set: a plain line.
+  EXPECT_NE(effective.find("# Bits                     : 12  (not set: chosen from the input)\n"),
+            std::string::npos)
+      << effective;
+  EXPECT_NE(effective.find("\nCount                    : 7\n"), std::string::npos) << effective;
+  Params q;
+  q.table.derivedWhenUnset("Bits", "chosen from the input");
+  q.table.derivedWhenUnset("Count", "the input's length");
+  q.table.parseText(effective, "effective");
+  EXPECT_FALSE(q.table.wasSet("Bits"));
+  EXPECT_TRUE(q.table.wasSet("Count"));
+  EXPECT_EQ(q.count, 7);
+  EXPECT_EQ(q.table.effectiveConfig(), effective);
+}
+
+TEST(Config, EffectiveConfigSaysWhatACfgLineCannotHold) {
+  Params p;
+  ASSERT_TRUE(p.parse({"--Input=take#2/%03d.obj", "--Output=a #b.3dvo"}));
+  const std::string effective = p.table.effectiveConfig();
+  EXPECT_EQ(effective.rfind("Input                    : take#2/%03d.obj\n", 0), 0u) << effective;
+  EXPECT_NE(effective.find("\n# Output                   : 'a #b.3dvo'  (a cfg line cannot hold"),
+            std::string::npos)
+      << effective;
+  for (const std::string value : {" lead", "trail ", "#first", "line\nbreak"}) {
+    Params v;
+    ASSERT_TRUE(v.parse({"--Input=" + value}));
+    EXPECT_NE(v.table.effectiveConfig().find("# Input                    : '"), std::string::npos)
+        << value;
+  }
+  Params q;
+  q.table.parseText(effective, "effective");
+  EXPECT_EQ(q.input, "take#2/%03d.obj");
+  EXPECT_EQ(q.output, "");
+}
+
 TEST(Config, EncoderKeysRequiredByTheDesign) {
   EncoderParams params;
   OptionTable table("3dvo-enc", "usage");
@@ -424,8 +477,10 @@ TEST(Config, EncoderKeysRequiredByTheDesign) {
     ASSERT_LT(i + 1, lines.size()) << key << " missing from:\n" << help;
     EXPECT_EQ(lines[i + 1].substr(lines[i + 1].find_first_not_of(' ')), "default: " + value) << key;
   }
-  // Every key of the effective configuration is documented in --help.
-  for (const std::string& line : test::lines(table.effectiveConfig())) {
+  // Every key of the effective configuration is documented in --help (the keys derived when
+  // unset are printed as comments).
+  for (std::string line : test::lines(table.effectiveConfig())) {
+    if (line.rfind("# ", 0) == 0) line.erase(0, 2);
     const std::string key = line.substr(0, line.find(' '));
     EXPECT_NE(help.find("\n  " + key + " "), std::string::npos) << key;
   }

@@ -49,6 +49,20 @@ size_t editDistance(const std::string& a, const std::string& b) {
   return d[n][m];
 }
 
+// Where the comment of a cfg line starts: at a '#' that begins the line or follows a blank
+// (npos: no comment).
+size_t commentStart(const std::string& line) {
+  for (size_t i = 0; i < line.size(); ++i)
+    if (line[i] == '#' && (i == 0 || line[i - 1] == ' ' || line[i - 1] == '\t')) return i;
+  return std::string::npos;
+}
+
+// True when `Key : value` read back by parseText gives `value` again.
+bool cfgLineHolds(const std::string& value) {
+  return value.find('\n') == std::string::npos && trim(value) == value &&
+         commentStart(" " + value) == std::string::npos;
+}
+
 }  // namespace
 
 void OptionTable::section(const std::string& title) {
@@ -177,6 +191,12 @@ bool OptionTable::wasSet(const std::string& key) const {
   return o && o->set;
 }
 
+void OptionTable::derivedWhenUnset(const std::string& key, const std::string& how) {
+  Option* o = find(key);
+  if (!o) throw std::logic_error("derivedWhenUnset: no option " + key);
+  o->derivedHow = how;
+}
+
 void OptionTable::parseText(const std::string& text, const std::string& origin) {
   // A UTF-8 byte-order mark (as some Windows editors write) is not part of the first key.
   std::istringstream in(std::string(withoutUtf8Bom(text)));
@@ -185,7 +205,7 @@ void OptionTable::parseText(const std::string& text, const std::string& origin) 
   while (std::getline(in, line)) {
     ++lineNumber;
     const std::string where = origin + ":" + std::to_string(lineNumber);
-    size_t hash = line.find('#');
+    const size_t hash = commentStart(line);
     if (hash != std::string::npos) line = line.substr(0, hash);
     line = trim(line);
     if (line.empty()) continue;
@@ -284,7 +304,16 @@ std::string OptionTable::effectiveConfig() const {
   for (const Option& o : options_) {
     std::string key = o.key;
     if (key.size() < 24) key.resize(24, ' ');
-    out += key + " : " + o.print() + "\n";
+    const std::string value = o.print();
+    if (!o.set && !o.derivedHow.empty()) {
+      out += "# " + key + " : " + value + "  (not set: " + o.derivedHow + ")\n";
+    } else if (!cfgLineHolds(value)) {
+      // Shown as the error messages show a value (common/core/error.h), on one line.
+      out += "# " + key + " : '" + oneLine(value) + "'" +
+             "  (a cfg line cannot hold this value; it can be given on the command line)\n";
+    } else {
+      out += key + " : " + value + "\n";
+    }
   }
   return out;
 }

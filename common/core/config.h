@@ -2,7 +2,9 @@
 //
 //   app -c cfg/a.cfg -c cfg/seq.cfg --QP=28
 //
-// Files hold `Key : value  # comment` lines. Files and --Key=value options are applied in the
+// Files hold `Key : value  # comment` lines (a comment starts at a '#' that begins the line or
+// follows a space or tab, so a value such as take#2/%03d.obj keeps its '#'). Files and
+// --Key=value options are applied in the
 // order given, so later ones win. Unknown keys and bad values are errors that name the file and
 // line (or the command-line option) and the key. --help prints every key with its default and
 // meaning, by section.
@@ -56,16 +58,27 @@ class OptionTable {
   // True when the key was set by a file or an option (not left at its default).
   bool wasSet(const std::string& key) const;
 
+  // Marks a key whose value the program derives at run time when no file or option sets it
+  // (from other keys or from the input; `how` says how, e.g. "chosen by Quality"): its being
+  // set changes what the program does, so effectiveConfig() prints it, while unset, as a
+  // comment, and the printed configuration read back leaves it unset too.
+  void derivedWhenUnset(const std::string& key, const std::string& how);
+
   // The cfg files read so far (-c and parseFile), in order: inputs no output may overwrite.
   const std::vector<std::string>& filesRead() const { return filesRead_; }
 
   std::string helpText() const;
-  // Every key with its effective value, one `Key : value` line each (a valid cfg file).
+  // Every key with its value, one `Key : value` line each: a cfg file that, read back, sets
+  // every key as this table has it. Two kinds of line are comments (`# Key : value  (why)`):
+  // a key derivedWhenUnset and not set (its default shown; the program derives the value it
+  // uses), and a value a cfg line cannot hold (a newline, surrounding blanks, or a '#' after a
+  // blank), which only the command line can give.
   std::string effectiveConfig() const;
 
  private:
   struct Option {
     std::string key, shortFlag, help, defaultValue, section;
+    std::string derivedHow;  // derivedWhenUnset: how the value is derived when not set
     bool isBool = false;
     bool set = false;
     std::function<void(const std::string&)> parse;  // throws std::string message on bad value

@@ -176,10 +176,12 @@ def _run_stage(stage, command, workdir, timeout):
 
 
 def _parse_key_values(lines):
-    """`Key : value` lines (the encoder's effective configuration and the apps' summaries)."""
+    """`Key : value` lines (the encoder's effective configuration and the apps' summaries).
+    Comment lines are left out: the effective configuration prints a key the encoder derives
+    while it is unset (e.g. GridBits, chosen by Quality) as `# Key : default  (not set: ...)`."""
     values = {}
     for line in lines:
-        if ":" in line:
+        if ":" in line and not line.lstrip().startswith("#"):
             key, value = line.split(":", 1)
             values[key.strip()] = value.strip()
     return values
@@ -223,7 +225,13 @@ def _number(text):
     return value if math.isfinite(value) else None
 
 
-def _geometry_stages(spec, workdir, timeout, config):
+def _frame_rate(encoder_summary):
+    """The frame rate the encoder used (FrameRate, or a Dataset's frames.rate), from its
+    summary: the effective configuration holds FrameRate only when it was set."""
+    return float(encoder_summary["frame rate"])
+
+
+def _geometry_stages(spec, workdir, timeout, encoder_summary):
     """Decode the meshes, compare them with the input OBJ frames; the result's own fields."""
     binaries = spec["binaries"]
     reference = spec["reference"]
@@ -251,7 +259,7 @@ def _geometry_stages(spec, workdir, timeout, config):
 
     stream_bytes = os.path.getsize(os.path.join(workdir, "stream.3dvo"))
     frame_count = len(frames)
-    frame_rate = float(config["FrameRate"])
+    frame_rate = _frame_rate(encoder_summary)
     vertices = sum(int(row["reference_vertices"]) for row in frames)
     bits = 8.0 * stream_bytes
     metric_names = [name for name in summary_row
@@ -277,7 +285,7 @@ def _geometry_stages(spec, workdir, timeout, config):
 _TEXTURE_BYTES = re.compile(r"\btextures (\d+)\)")
 
 
-def _texture_stages(spec, workdir, timeout, config, encoder_summary, encode_command):
+def _texture_stages(spec, workdir, timeout, encoder_summary, encode_command):
     """Decode meshes and textures (and the H.264 of each camera), compare the decoded camera
     frames with the dataset's; the result's own fields."""
     binaries = spec["binaries"]
@@ -309,7 +317,7 @@ def _texture_stages(spec, workdir, timeout, config, encoder_summary, encode_comm
 
     stream_bytes = os.path.getsize(os.path.join(workdir, "stream.3dvo"))
     frame_count = reference["frame_count"]
-    frame_rate = float(config["FrameRate"])
+    frame_rate = _frame_rate(encoder_summary)
     seconds = frame_count / frame_rate
     metric_names = [name for name in summary_row
                     if name not in ("frame", "reference_frame", "test_frame", "camera",
@@ -368,10 +376,11 @@ def run_job(spec):
                                 "stderr_tail": encoder_text[-2000:]})
 
         if spec.get("kind", "geometry") == "texture":
-            fields, decode_s, metrics_s = _texture_stages(spec, workdir, timeout, config,
+            fields, decode_s, metrics_s = _texture_stages(spec, workdir, timeout,
                                                           encoder_summary, encode_command)
         else:
-            fields, decode_s, metrics_s = _geometry_stages(spec, workdir, timeout, config)
+            fields, decode_s, metrics_s = _geometry_stages(spec, workdir, timeout,
+                                                           encoder_summary)
         result = dict(base)
         result["status"] = "ok"
         result.update(fields)
