@@ -139,11 +139,16 @@ class Sequence:
 
     def input_keys(self):
         keys = [("InputMeshPattern", self.pattern)] if self.pattern else []
+        first = self.first_frame
         if self.kind == "texture":
             keys.append(("Dataset", self.dataset))
-        return keys + [("FirstFrame", str(self.first_frame)),
-                       ("FrameCount", str(self.frame_count)),
-                       ("FrameRate", cfg_value(self.frame_rate))]
+            # With a Dataset the encoder's FirstFrame is a frame number, frames.first + index.
+            first += read_dataset(self).get("frames", {}).get("first", 0)
+        keys += [("FirstFrame", str(first)), ("FrameCount", str(self.frame_count))]
+        # Not set in a texture sweep: the encoder takes the dataset's frames.rate.
+        if self.frame_rate is not None:
+            keys.append(("FrameRate", cfg_value(self.frame_rate)))
+        return keys
 
 
 class Mode:
@@ -258,7 +263,7 @@ class Sweep:
             sequence = Sequence(
                 name, self.resolve(pattern) if pattern else None,
                 t.get("first_frame", int, 0), t.get("frame_count", int, required=True),
-                t.get("frame_rate", float, 25.0), self._paths(t, "cfg"),
+                t.get("frame_rate", float, None if texture else 25.0), self._paths(t, "cfg"),
                 self._overrides(t, "set"), self.kind,
                 self._dataset_path(dataset) if dataset else None, prepare)
             sequence.dataset_text = dataset
@@ -492,10 +497,8 @@ def _dataset_path(folder, path, number):
     return os.path.normpath(os.path.join(folder, path))
 
 
-def dataset_input_hashes(sequence):
-    """What a texture job reads, by content: the dataset's calibration (dataset.json without its
-    file names) and the SHA-256 of every file the encoder and the metrics read for the coded
-    frames (each camera's images or its video, and the meshes, or the sequence's pattern)."""
+def read_dataset(sequence):
+    """The dataset.json of a texture sequence, as a dict."""
     name = os.path.join(sequence.dataset, "dataset.json")
     try:
         with open(name, encoding="utf-8") as f:
@@ -507,6 +510,17 @@ def dataset_input_hashes(sequence):
             if sequence.prepare else "")) from None
     except ValueError as e:
         raise SweepError("sequence '%s': %s: %s" % (sequence.name, name, e)) from None
+    if not isinstance(dataset, dict) or not isinstance(dataset.get("frames", {}), dict):
+        raise SweepError("sequence '%s': %s: not a dataset (no frames table)"
+                         % (sequence.name, name))
+    return dataset
+
+
+def dataset_input_hashes(sequence):
+    """What a texture job reads, by content: the dataset's calibration (dataset.json without its
+    file names) and the SHA-256 of every file the encoder and the metrics read for the coded
+    frames (each camera's images or its video, and the meshes, or the sequence's pattern)."""
+    dataset = read_dataset(sequence)
     frames = dataset.get("frames", {})
     first = frames.get("first", 0)
     numbers = [first + sequence.first_frame + k for k in range(sequence.frame_count)]

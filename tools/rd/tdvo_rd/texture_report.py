@@ -77,9 +77,11 @@ class TextureKind:
                "|---|---|---|---|---|---|"]
         for s in sweep.sequences:
             cameras = next((r["cameras"] for r in rows if r["sequence"] == s.name), "n/a")
-            out.append("| %s | `%s` | %d from %d | %s | %g | %s |" % (
+            # The rate the encoder used (the sweep's frame_rate, else the dataset's).
+            rate = next((r["frame_rate"] for r in rows if r["sequence"] == s.name), "n/a")
+            out.append("| %s | `%s` | %d from %d | %s | %s | %s |" % (
                 s.name, s.dataset_text, s.frame_count, s.first_frame,
-                cameras, s.frame_rate,
+                cameras, rate,
                 "`%s`" % os.path.relpath(s.pattern, sweep.root) if s.pattern
                 else "the dataset's meshes"))
         prepared = [s for s in sweep.sequences if s.prepare]

@@ -4,6 +4,7 @@ their cache keys, and a small real sweep (object PSNR, rates, BD table, page) wi
 import json
 import os
 import shutil
+import sys
 import textwrap
 
 from tests import support
@@ -87,6 +88,20 @@ class TextureSweepTest(TempDirTestCase):
 
         path = self.sweep('dataset = "data/set"\npattern = "data/set/meshes/%04d.obj"')
         self.assertIn("InputMeshPattern", Sweep(path).jobs()[0].config)
+
+    def test_first_frame_and_rate_follow_the_dataset(self):
+        # The encoder's FirstFrame is a dataset frame number (frames.first + first_frame), and
+        # without frame_rate in the sweep it takes the dataset's rate: FrameRate is not set.
+        name = os.path.join(self.tmp, "data", "set", "dataset.json")
+        with open(name) as f:
+            dataset = json.load(f)
+        dataset["frames"].update(first=10, rate=30.0)
+        write(name, json.dumps(dataset))
+        config = Sweep(self.sweep('dataset = "data/set"')).jobs()[0].config
+        self.assertEqual(config["FirstFrame"], "11")
+        self.assertNotIn("FrameRate", config)
+        config = Sweep(self.sweep('dataset = "data/set"\nframe_rate = 24')).jobs()[0].config
+        self.assertEqual(config["FrameRate"], "24")
 
     def test_errors_name_the_place(self):
         cases = [
@@ -185,6 +200,11 @@ class TextureSweepTest(TempDirTestCase):
                 self.assertEqual(os.listdir(os.path.join(results, "data")), [])
 
 
+# A prepare step: the dataset's frames.rate set to 30 (3dvo-synth writes 25).
+SET_RATE_30 = ("import json, sys; d = json.load(open(sys.argv[1])); d['frames']['rate'] = 30.0; "
+               "json.dump(d, open(sys.argv[1], 'w'))")
+
+
 class TextureRunTest(TempDirTestCase):
     """A real texture sweep: 3dvo-synth makes a 2-camera rig; 2 modes x 3 QPs."""
 
@@ -204,7 +224,8 @@ class TextureRunTest(TempDirTestCase):
             name = "tiny"
             dataset = "{results}/data/tiny"
             prepare = [["{bin}/3dvo-synth", "-o", "{dataset}", "--Cameras=2", "--FrameCount=3",
-                        "--Width=96", "--Height=64", "--NoiseSigma=2"]]
+                        "--Width=96", "--Height=64", "--NoiseSigma=2"],
+                       ["%s", "-c", "%s", "{dataset}/dataset.json"]]
             frame_count = 3
             set = { GOMSize = 3, TexturePreset = "fast" }
 
@@ -221,7 +242,7 @@ class TextureRunTest(TempDirTestCase):
 
             [report]
             distortion = ["object_y_psnr", "frame_y_psnr"]
-            """ % support.REPO)
+            """ % (support.REPO, sys.executable, SET_RATE_30))
 
     def test_sweep_rows_bd_table_and_page(self):
         page = os.path.join(self.tmp, "docs", "results-tiny.md")
@@ -239,9 +260,11 @@ class TextureRunTest(TempDirTestCase):
                           ("full", "TextureQP=40"), ("bbox-mb128", "TextureQP=24")])
         for row in rows:
             self.assertEqual((row["frames"], row["cameras"]), ("3", "2"))
-            # Rates: texture units at 25 fps over 3 frames; H.264 alone is less.
+            # Rates: texture units at the dataset's 30 fps (FrameRate is not set) over 3
+            # frames; H.264 alone is less.
+            self.assertEqual(row["frame_rate"], "30")
             self.assertAlmostEqual(float(row["kbit_s"]),
-                                   int(row["texture_bytes"]) * 8 / 1000 * 25 / 3, places=6)
+                                   int(row["texture_bytes"]) * 8 / 1000 * 30 / 3, places=6)
             self.assertLess(int(row["h264_bytes"]), int(row["texture_bytes"]))
             self.assertLess(int(row["texture_bytes"]), int(row["bytes"]))
             self.assertEqual(row["frame_region"], "box")
@@ -264,7 +287,7 @@ class TextureRunTest(TempDirTestCase):
         text = support.read_text(page)
         self.assertIn("### object Y-PSNR, against full", text)
         self.assertIn("![tiny, object Y-PSNR](results-tiny/tiny-object_y_psnr.svg)", text)
-        self.assertIn("| tiny | `{results}/data/tiny` | 3 from 0 | 2 | 25 |", text)
+        self.assertIn("| tiny | `{results}/data/tiny` | 3 from 0 | 2 | 30 |", text)
         self.assertTrue(os.path.isfile(os.path.join(self.tmp, "docs", "results-tiny",
                                                     "tiny-frame_y_psnr.png")))
 
