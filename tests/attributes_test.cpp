@@ -139,7 +139,7 @@ TEST(AttributeFiles, ObjErrorsNameTheLine) {
   const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
   EXPECT_NE(errorOf([&] { parseObj(tri + "vt 0 0\nf 1/1 2/2 3/1\n", "a.obj"); })
                 .find("a.obj:5: texture coordinate index 2 out of range (the file has 1 "
-                      "texture coordinates)"),
+                      "texture coordinate)"),
             std::string::npos);
   // Corners without the index, or indices without values: the attribute is left out.
   const Mesh mixed = parseObj(tri + "vn 0 0 1\nvt 0 0\nf 1//1 2//1 3//1\nf 1/1 2/1 3\n", "b.obj");

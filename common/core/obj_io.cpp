@@ -50,11 +50,7 @@ class ObjParser {
     pending_.clear();
     // Indices may refer to vertices defined later in the file, so they are checked at the end,
     // against the largest index seen and the line it was on.
-    if (!mesh_.triangles.empty() && maxIndex_ >= mesh_.positions.size()) {
-      lineNumber_ = maxIndexLine_;
-      fail("vertex index " + std::to_string(maxIndex_ + 1ull) + " out of range (the file has " +
-           std::to_string(mesh_.positions.size()) + " vertices)");
-    }
+    if (!mesh_.triangles.empty()) checkLargest(largest_, mesh_.positions.size(), "vertex");
     MeshAttributes& at = mesh_.attributes;
     if (!finishAttribute(uv_, at.uvs.size(), at.uvTriangles)) at.uvs.clear();
     if (!finishAttribute(normal_, at.normals.size(), at.normalTriangles)) at.normals.clear();
@@ -70,13 +66,27 @@ class ObjParser {
   }
 
  private:
+  // The largest 0-based index of one kind (vertex, texture coordinate or normal) the faces
+  // gave so far, and the line where it first appeared: checked against the number of values
+  // of that kind once the whole file is read (values may come after the faces using them).
+  struct LargestIndex {
+    uint32_t value = 0;
+    size_t line = 0;  // 0: no index yet
+
+    void note(uint32_t index, size_t lineNumber) {
+      if (index > value || line == 0) {
+        value = index;
+        line = lineNumber;
+      }
+    }
+  };
+
   // A face attribute (texture coordinates or normals): its corner indices.
   struct Attribute {
     explicit Attribute(const char* name) : what(name) {}
     const char* what;
     int state = 0;  // 0: no face yet, 1: every corner gives it, 2: none does, 3: some do
-    uint32_t maxIndex = 0;
-    size_t maxIndexLine = 0;
+    LargestIndex largest;
     std::vector<uint32_t> corners;    // of the current face
     std::vector<Triangle> triangles;  // one per triangle
   };
@@ -190,26 +200,10 @@ class ObjParser {
       std::vector<Triangle>().swap(a.triangles);
     }
     if (!given) return;
-    long long value = 0;
-    auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), value);
-    if (ec != std::errc() || ptr != part.data() + part.size() || value == 0)
-      fail(std::string("bad ") + a.what + " index in '" + std::string(token) + "'");
-    if (value < 0) {
-      value += static_cast<long long>(count) + 1;
-      if (value < 1)
-        fail(std::string(a.what) + " index in '" + std::string(token) + "' out of range (" +
-             relativeIndexNote(count, a.what) + ")");
-    }
-    if (value > 0xFFFFFFFFLL)
-      fail(std::string(a.what) + " index in '" + std::string(token) +
-           "' out of range (above 4294967295)");
+    const uint32_t index = resolveIndex(part, token, count, a.what);
     if (a.state != 1) return;
-    const uint32_t result = static_cast<uint32_t>(value - 1);
-    if (result > a.maxIndex || a.maxIndexLine == 0) {
-      a.maxIndex = result;
-      a.maxIndexLine = lineNumber_;
-    }
-    a.corners.push_back(result);
+    a.largest.note(index, lineNumber_);
+    a.corners.push_back(index);
   }
 
   // The index triangles of an attribute, checked against its `count` values (which may come
@@ -227,51 +221,63 @@ class ObjParser {
       warn(name_ + ": its " + std::to_string(count) + " " + a.what +
            "s are used by no face: " + "left out");
     if (a.state != 1 || count == 0) return false;
-    if (a.maxIndex >= count) {
-      lineNumber_ = a.maxIndexLine;
-      fail(std::string(a.what) + " index " + std::to_string(a.maxIndex + 1ull) +
-           " out of range (the file has " + std::to_string(count) + " " + a.what + "s)");
-    }
+    checkLargest(a.largest, count, a.what);
     triangles = std::move(a.triangles);
     return true;
+  }
+
+  // "1 vertex", "3 vertices", "2 normals" ...
+  static std::string countOf(size_t count, const std::string& what) {
+    return std::to_string(count) + " " +
+           (what == "vertex" ? std::string(count == 1 ? "vertex" : "vertices")
+                             : what + (count == 1 ? "" : "s"));
   }
 
   // Why a negative (relative) index is out of range: it counts back from the `count` values of
   // its kind read so far.
   static std::string relativeIndexNote(size_t count, const std::string& what) {
-    return "a negative index counts back from the " + std::to_string(count) + " " +
-           (what == "vertex" ? std::string(count == 1 ? "vertex" : "vertices")
-                             : what + (count == 1 ? "" : "s")) +
-           " read so far";
+    return "a negative index counts back from the " + countOf(count, what) + " read so far";
+  }
+
+  // The largest index of a kind against the `count` values the whole file has of it.
+  void checkLargest(const LargestIndex& largest, size_t count, const std::string& what) {
+    if (largest.value < count) return;
+    lineNumber_ = largest.line;
+    fail(what + " index " + std::to_string(largest.value + 1ull) + " out of range (the file has " +
+         countOf(count, what) + ")");
+  }
+
+  // The 0-based index that the 1-based OBJ index `part` of face corner `token` names, `what`
+  // being "vertex", "texture coordinate" or "normal" and `count` the values of that kind read
+  // so far (a negative index counts back from them). Its range against all the file's values is
+  // checked at the end (LargestIndex).
+  uint32_t resolveIndex(std::string_view part, std::string_view token, size_t count,
+                        const std::string& what) const {
+    // How the messages name the index: the vertex index is the corner's first part.
+    const auto named = [&]() {
+      return what + (what == "vertex" ? " index '" : " index in '") + std::string(token) + "'";
+    };
+    long long value = 0;
+    auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), value);
+    if (ec != std::errc() || ptr != part.data() + part.size() || value == 0) fail("bad " + named());
+    if (value < 0) {
+      value += static_cast<long long>(count) + 1;
+      if (value < 1) fail(named() + " out of range (" + relativeIndexNote(count, what) + ")");
+    }
+    if (value > 0xFFFFFFFFLL) fail(named() + " out of range (above 4294967295)");
+    return static_cast<uint32_t>(value - 1);
   }
 
   uint32_t index(std::string_view token) {
-    std::string_view first = token.substr(0, token.find('/'));
-    long long value = 0;
-    auto [ptr, ec] = std::from_chars(first.data(), first.data() + first.size(), value);
-    if (ec != std::errc() || ptr != first.data() + first.size() || value == 0)
-      fail("bad vertex index '" + std::string(token) + "'");
-    // Negative indices count back from the last vertex read so far.
-    if (value < 0) {
-      value += static_cast<long long>(mesh_.positions.size()) + 1;
-      if (value < 1)
-        fail("vertex index '" + std::string(token) + "' out of range (" +
-             relativeIndexNote(mesh_.positions.size(), "vertex") + ")");
-    }
-    if (value > 0xFFFFFFFFLL)
-      fail("vertex index '" + std::string(token) + "' out of range (above 4294967295)");
-    const uint32_t result = static_cast<uint32_t>(value - 1);
-    if (result > maxIndex_ || maxIndexLine_ == 0) {
-      maxIndex_ = result;
-      maxIndexLine_ = lineNumber_;
-    }
+    const uint32_t result =
+        resolveIndex(token.substr(0, token.find('/')), token, mesh_.positions.size(), "vertex");
+    largest_.note(result, lineNumber_);
     return result;
   }
 
   const std::string& name_;
   size_t lineNumber_ = 0;
-  uint32_t maxIndex_ = 0;    // largest 0-based vertex index in any face so far
-  size_t maxIndexLine_ = 0;  // the line where it first appeared
+  LargestIndex largest_;  // of the vertex indices
   size_t firstFaceLine_ = 0;
   size_t properTriangles_ = 0;  // triangles with three different vertices
   Attribute uv_ = Attribute("texture coordinate");
