@@ -208,18 +208,30 @@ class SweepTest(TempDirTestCase):
 
 
 class StartUpTest(TempDirTestCase):
-    def test_help_and_list_need_no_report_packages(self):
-        # numpy, scipy and matplotlib made unimportable: --help still works (the report's
-        # packages are loaded only by run and report).
+    def run_without_report_packages(self, *args):
+        """3dvo-rd with numpy, scipy and matplotlib made unimportable."""
         code = ("import runpy, sys\n"
                 "for name in ('numpy', 'scipy', 'matplotlib'):\n"
                 "    sys.modules[name] = None\n"
-                "sys.argv = [%r, '--help']\n"
-                "runpy.run_path(%r, run_name='__main__')\n" % (support.SCRIPT, support.SCRIPT))
-        result = subprocess.run([sys.executable, "-c", code], stdout=subprocess.PIPE,
-                                stderr=subprocess.PIPE, text=True)
+                "sys.argv = [%r] + %r\n"
+                "runpy.run_path(%r, run_name='__main__')\n"
+                % (support.SCRIPT, list(args), support.SCRIPT))
+        return subprocess.run([sys.executable, "-c", code], stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True)
+
+    def test_help_and_list_need_no_report_packages(self):
+        # The report's packages are loaded only by run and report.
+        result = self.run_without_report_packages("--help")
         self.assertEqual(result.returncode, 0, result.stderr)
         self.assertIn("usage: 3dvo-rd", result.stdout)
+        support.require_binaries(self)
+        sweep = support.write_sweep(os.path.join(self.tmp, "sweep.toml"),
+                                    support.make_sequences(self.tmp))
+        result = self.run_without_report_packages(
+            "list", sweep, "--results", os.path.join(self.tmp, "results"),
+            "--bin-dir", support.bin_dir())
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertEqual(result.stdout.count("todo "), 12, result.stdout)
 
 
 if __name__ == "__main__":
