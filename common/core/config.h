@@ -4,10 +4,9 @@
 //
 // Files hold `Key : value  # comment` lines (a comment starts at a '#' that begins the line or
 // follows a space or tab, so a value such as take#2/%03d.obj keeps its '#'). Files and
-// --Key=value options are applied in the
-// order given, so later ones win. Unknown keys and bad values are errors that name the file and
-// line (or the command-line option) and the key. --help prints every key with its default and
-// meaning, by section.
+// --Key=value options are applied in the order given, so later ones win. Unknown keys and bad
+// values are errors that name the file and line (or the command-line option) and the key.
+// --help prints every key with its default and meaning, by section.
 #pragma once
 
 #include <functional>
