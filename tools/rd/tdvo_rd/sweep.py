@@ -49,9 +49,9 @@ the job gets the absolute path, and the cache key the file's content hash.
 The encoder configuration of a job is the merge, later wins, of: [sweep].cfg, the sequence's cfg
 and set, the mode's cfg and set, the setting, and last the sequence's input keys
 (InputMeshPattern, FirstFrame, FrameCount, FrameRate). cfg files are read here with 3dvo-enc's
-rules (`Key : value`, `#` starts a comment) and the merged result goes to the encoder as
-`--Key=value` options, so the job carries its whole configuration and the cache key hashes
-exactly what the encoder receives.
+rules (`Key : value`, a `#` at the start or after a blank starts a comment) and the merged
+result goes to the encoder as `--Key=value` options, so the job carries its whole configuration
+and the cache key hashes exactly what the encoder receives.
 """
 
 import hashlib
@@ -90,18 +90,29 @@ def cfg_value(value):
     raise TypeError("not a cfg value: %r" % (value,))
 
 
+def _without_comment(line):
+    """A cfg line without its comment, which starts at a '#' that begins the line or follows a
+    space or tab (OptionTable's rule: a value such as take#2/%03d.obj keeps its '#')."""
+    for i, c in enumerate(line):
+        if c == "#" and (i == 0 or line[i - 1] in " \t"):
+            return line[:i]
+    return line
+
+
 def read_cfg_file(path):
     """The (key, value) pairs of a 3dvo cfg file in file order, parsed like
-    OptionTable::parseText: text after '#' is a comment, then `Key : value` split at the first
-    colon, both trimmed."""
+    OptionTable::parseText: a UTF-8 byte-order mark is dropped, a comment runs from a '#' at the
+    start or after a blank, then `Key : value` is split at the first colon, both trimmed."""
     try:
-        with open(path, encoding="utf-8") as f:
-            lines = f.read().splitlines()
+        with open(path, encoding="utf-8-sig") as f:
+            lines = f.read().split("\n")
     except OSError as e:
         raise SweepError("%s: cannot read cfg file (%s)" % (path, e.strerror)) from None
+    except ValueError as e:
+        raise SweepError("%s: not UTF-8 text (%s)" % (path, e)) from None
     pairs = []
     for number, line in enumerate(lines, 1):
-        line = line.split("#", 1)[0].strip(" \t\r")
+        line = _without_comment(line).strip(" \t\r")
         if not line:
             continue
         if ":" not in line:

@@ -104,8 +104,10 @@ class SweepTest(TempDirTestCase):
         self.assertEqual(jobs[3].mode.label, "D3DMC")
 
     def test_cfg_file_rules(self):
-        path = self.write("x.cfg", "# comment\n\n  Key :  a:b  # c\nOther:1\n")
-        self.assertEqual(read_cfg_file(path), [("Key", "a:b"), ("Other", "1")])
+        path = self.write("x.cfg", "\ufeff# comment\n\n  Key :  a:b  # c\nOther:1\n"
+                          "Pattern : take#2/%03d.obj\t# the second take\nEmpty : # none\n")
+        self.assertEqual(read_cfg_file(path), [("Key", "a:b"), ("Other", "1"),
+                                               ("Pattern", "take#2/%03d.obj"), ("Empty", "")])
         bad = self.write("bad.cfg", "GridBits 12\n")
         with self.assertRaisesRegex(SweepError, "bad.cfg:1: expected 'Key : value'"):
             read_cfg_file(bad)
