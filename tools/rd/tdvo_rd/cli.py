@@ -8,7 +8,7 @@ import sys
 from . import job as job_module
 from . import security
 from .runner import run_sweep
-from .sweep import Identity, Sweep, SweepError
+from .sweep import Identity, Sweep, SweepError, check_page
 
 _REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
                                       ".."))
@@ -97,6 +97,11 @@ def main(argv=None):
         results_dir = _results_dir(args, sweep)
         sweep.use_results(results_dir)
         bin_dir = args.bin_dir or default_bin_dir()
+        # The page is checked before any job runs: one that 3dvo-rd did not write is not
+        # replaced (sweep.check_page).
+        page = getattr(args, "report", None) or getattr(args, "out", None)
+        if page:
+            check_page(page)
         if args.command == "list":
             identity = Identity(bin_dir)
             for j in sweep.jobs():

@@ -222,6 +222,20 @@ class LocalRunTest(TempDirTestCase):
         self.assertEqual(support.read_text(os.path.join(files, "blob3-D_A.svg")), svg)
         self.assertEqual(support.read_text(os.path.join(files, "bd.csv")), bd)
 
+        # A page 3dvo-rd did not write is not replaced, by report or by run (before any job).
+        mine = os.path.join(self.tmp, "docs", "notes.md")
+        with open(mine, "w") as f:
+            f.write("# My notes\n")
+        out = support.run_rd("report", self.sweep, "--results", self.results, "--bin-dir",
+                             bin_dir, "--out", mine, check=False)
+        self.assertEqual(out.returncode, 1)
+        self.assertIn("notes.md exists and was not written by 3dvo-rd", out.stderr)
+        out = support.run_rd(*self.run_args(bin_dir, "--report", mine, "--force"), check=False)
+        self.assertEqual(out.returncode, 1)
+        self.assertEqual(support.count_lines(self.count), calls)   # no job ran
+        self.assertEqual(support.read_text(mine), "# My notes\n")
+        self.assertFalse(os.path.exists(os.path.join(self.tmp, "docs", "notes")))
+
         # Without results for the current binaries, report refuses (unless --partial).
         empty = os.path.join(self.tmp, "empty")
         out = support.run_rd("report", self.sweep, "--results", empty, "--bin-dir", bin_dir,
