@@ -113,6 +113,17 @@ def write_json_atomic(path, value):
         raise
 
 
+def write_text_atomic(path, text):
+    """Writes a text file (a page, a CSV) under a temporary name beside it and renames it, so
+    that it is never seen half-written; the file gets the permissions a new file gets."""
+    folder = os.path.dirname(os.path.abspath(path))
+    os.makedirs(folder, exist_ok=True)
+    temp = os.path.join(folder, ".tmp-" + os.path.basename(path))
+    with open(temp, "w", encoding="utf-8", newline="") as f:
+        f.write(text)
+    os.replace(temp, path)
+
+
 class _StageFailed(Exception):
     def __init__(self, record):
         super().__init__(record["error"])

@@ -22,6 +22,7 @@ import os
 
 from . import bdrate
 from . import texture_report
+from .job import write_text_atomic
 from .sweep import PAGE_MARKER, SweepError, check_page
 
 # CSV columns, in order. Metric columns hold the text 3dvo-metrics printed (10 significant
@@ -163,15 +164,6 @@ def csv_text(rows, columns=CSV_COLUMNS):
     for row in rows:
         writer.writerow(row)
     return out.getvalue()
-
-
-def write_text_atomic(path, text):
-    folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
-    temp = os.path.join(folder, ".tmp-" + os.path.basename(path))
-    with open(temp, "w", encoding="utf-8", newline="") as f:
-        f.write(text)
-    os.replace(temp, path)
 
 
 def _float(text):

@@ -1,6 +1,11 @@
 """quality_hull.py: the lower convex hull of (rate, distortion) points and its rate at a given
 distortion, on hand-made points with known answers."""
 
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
 import unittest
 
 import quality_hull
@@ -21,6 +26,44 @@ class HullTest(unittest.TestCase):
         self.assertAlmostEqual(quality_hull.hull_rate(hull, 10.0), 100.0)
         self.assertIsNone(quality_hull.hull_rate(hull, 0.5))   # finer than any point
         self.assertIsNone(quality_hull.hull_rate(hull, 20.0))  # coarser than any point
+
+
+class PageTest(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="3dvo-hull-test-")
+        self.addCleanup(shutil.rmtree, self.tmp, True)
+        header = "sequence,mode,setting,kbit_s,kg_error\n"
+        for name, rows in (("hull", "s,h,GridBits=10,100,1.0\ns,h,GridBits=12,400,0.1\n"),
+                           ("quality", "s,quality,Quality=50,200,0.5\n")):
+            os.makedirs(os.path.join(self.tmp, name))
+            with open(os.path.join(self.tmp, name, "rd.csv"), "w") as f:
+                f.write(header + rows)
+
+    def run_hull(self, *extra):
+        return subprocess.run([sys.executable, quality_hull.__file__,
+                               os.path.join(self.tmp, "hull"), os.path.join(self.tmp, "quality"),
+                               *extra], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+    def test_writes_and_rewrites_its_own_page_only(self):
+        page = os.path.join(self.tmp, "results-quality.md")
+        self.assertEqual(self.run_hull("--out", page).returncode, 0)
+        with open(page) as f:
+            first = f.read()
+        self.assertIn("| Quality=50 | 200.0 | 0.5000 |", first)
+        result = self.run_hull("--out", page)  # its own page: replaced
+        self.assertEqual(result.returncode, 0, result.stderr)
+        mine = os.path.join(self.tmp, "notes.md")
+        with open(mine, "w") as f:
+            f.write("# notes\n")
+        result = self.run_hull("--out", mine)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("notes.md exists and is not a page this tool wrote", result.stderr)
+        with open(mine) as f:
+            self.assertEqual(f.read(), "# notes\n")
+        result = subprocess.run([sys.executable, quality_hull.__file__, "/nonexistent", "x"],
+                                stderr=subprocess.PIPE, text=True)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("quality_hull: error: /nonexistent/rd.csv: cannot read", result.stderr)
 
 
 if __name__ == "__main__":

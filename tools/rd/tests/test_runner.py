@@ -229,7 +229,7 @@ class LocalRunTest(TempDirTestCase):
         out = support.run_rd("report", self.sweep, "--results", self.results, "--bin-dir",
                              bin_dir, "--out", mine, check=False)
         self.assertEqual(out.returncode, 1)
-        self.assertIn("notes.md exists and was not written by 3dvo-rd", out.stderr)
+        self.assertIn("notes.md exists and is not a page this tool wrote", out.stderr)
         out = support.run_rd(*self.run_args(bin_dir, "--report", mine, "--force"), check=False)
         self.assertEqual(out.returncode, 1)
         self.assertEqual(support.count_lines(self.count), calls)   # no job ran
