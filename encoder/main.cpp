@@ -174,7 +174,11 @@ int main(int argc, char** argv) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double bits = 8.0 * coded.stream.size();
     std::printf("# summary\n");
-    std::printf("frames              : %zu\n", source.count);
+    // With the frame numbers, which a Dataset may have chosen (FirstFrame not set).
+    std::printf(
+        "frames              : %zu (frame numbers %lld .. %lld)\n", source.count,
+        static_cast<long long>(params.firstFrame),
+        static_cast<long long>(params.firstFrame) + static_cast<long long>(source.count) - 1);
     {
       // The rate used (FrameRate, or the Dataset's), exact: the shortest text that reads back
       // as the same double.
