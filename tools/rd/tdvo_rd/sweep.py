@@ -547,9 +547,11 @@ def read_dataset(sequence):
             if sequence.prepare else "")) from None
     except ValueError as e:
         raise SweepError("sequence '%s': %s: %s" % (sequence.name, name, e)) from None
-    if not isinstance(dataset, dict) or not isinstance(dataset.get("frames", {}), dict):
-        raise SweepError("sequence '%s': %s: not a dataset (no frames table)"
-                         % (sequence.name, name))
+    frames = dataset.get("frames", {}) if isinstance(dataset, dict) else None
+    first = frames.get("first", 0) if isinstance(frames, dict) else None
+    if not isinstance(first, int) or isinstance(first, bool):
+        raise SweepError("sequence '%s': %s: not a dataset (no frames table with an integer "
+                         "first frame)" % (sequence.name, name))
     return dataset
 
 
