@@ -1,5 +1,4 @@
 // 3dvo-enc: encodes an OBJ mesh sequence into a .3dvo stream.
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +13,7 @@
 #include "common/core/gltf_io.h"
 #include "common/core/md5.h"
 #include "common/core/mesh_io.h"
+#include "common/core/number_text.h"
 #include "common/core/obj_io.h"
 #include "common/core/progress.h"
 #include "common/core/sequence.h"
@@ -179,13 +179,8 @@ int main(int argc, char** argv) {
         "frames              : %zu (frame numbers %lld .. %lld)\n", source.count,
         static_cast<long long>(params.firstFrame),
         static_cast<long long>(params.firstFrame) + static_cast<long long>(source.count) - 1);
-    {
-      // The rate used (FrameRate, or the Dataset's), exact: the shortest text that reads back
-      // as the same double.
-      char rate[32];
-      const auto end = std::to_chars(rate, rate + sizeof rate, params.frameRate).ptr;
-      std::printf("frame rate          : %.*s\n", static_cast<int>(end - rate), rate);
-    }
+    // The rate used (FrameRate, or the Dataset's), exactly.
+    std::printf("frame rate          : %s\n", formatDouble(params.frameRate).c_str());
     std::printf("stream              : %s\n", params.bitstreamFile.c_str());
     if (!encoder.qualityReport().empty())
       std::printf("quality             : %s\n", encoder.qualityReport().c_str());

@@ -8,6 +8,7 @@
 
 #include "common/core/error.h"
 #include "common/core/file_io.h"
+#include "common/core/number_text.h"
 #include "common/core/text_tokens.h"
 #include "common/core/version.h"
 
@@ -20,12 +21,6 @@ std::string trim(const std::string& s) {
   if (b == std::string::npos) return "";
   size_t e = s.find_last_not_of(" \t\r");
   return s.substr(b, e - b + 1);
-}
-
-std::string formatDouble(double v) {
-  char buffer[32];
-  auto r = std::to_chars(buffer, buffer + sizeof buffer, v);
-  return std::string(buffer, r.ptr);
 }
 
 // Edit distance between a and b (insertions, deletions, substitutions and swaps of two
