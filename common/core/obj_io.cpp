@@ -250,12 +250,14 @@ class ObjParser {
   // The 0-based index that the 1-based OBJ index `part` of face corner `token` names, `what`
   // being "vertex", "texture coordinate" or "normal" and `count` the values of that kind read
   // so far (a negative index counts back from them). Its range against all the file's values is
-  // checked at the end (LargestIndex).
+  // checked at the end (LargestIndex). `what` is a C string, so that a corner builds no
+  // std::string unless it is in error (this runs for every face corner).
   uint32_t resolveIndex(std::string_view part, std::string_view token, size_t count,
-                        const std::string& what) const {
+                        const char* what) const {
     // How the messages name the index: the vertex index is the corner's first part.
     const auto named = [&]() {
-      return what + (what == "vertex" ? " index '" : " index in '") + std::string(token) + "'";
+      const std::string kind = what;
+      return kind + (kind == "vertex" ? " index '" : " index in '") + std::string(token) + "'";
     };
     long long value = 0;
     auto [ptr, ec] = std::from_chars(part.data(), part.data() + part.size(), value);
