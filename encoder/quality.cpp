@@ -28,12 +28,15 @@ size_t randomAccessGoms(const EncoderParams& p, size_t frames) {
 }
 
 // Codes the first `count` frames as one GOM with candidate `c` and fills its extrapolated rate,
-// distortion and J. Distances are in units of `unit` (the target step Δ), so that J stays
-// finite and ordered at any scale of the input (in world units, a squared distance overflows
-// beyond 1e154 and underflows below 1e-154).
+// distortion and J = D + λ·R with λ = (ln 2 / 6) Δ², Δ = `target` (0: the object has no size,
+// and only the distortion counts). Distances are in units of Δ, so that J stays finite and
+// ordered at any scale of the input (in world units, a squared distance overflows beyond 1e154
+// and underflows below 1e-154); λ is then ln 2 / 6.
 void measure(Candidate& c, const EncoderParams& params, const SequenceBounds& bounds,
              const std::vector<Mesh>& frames, const std::vector<std::string>& names,
-             size_t sequenceFrames, double unit, double lambda) {
+             size_t sequenceFrames, double target) {
+  const double unit = target > 0 ? target : 1.0;
+  const double lambda = target > 0 ? std::log(2.0) / 6.0 : 0.0;
   EncoderParams p = params;
   p.gridBits = c.gridBits;
   p.motionQuantStep = c.step;
@@ -156,12 +159,9 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
       frames.push_back(source.read(k));
       names.push_back(source.name ? source.name(k) : "frame " + std::to_string(k));
     }
-    // λ = (ln 2 / 6) Δ², in units of Δ² as the distortion.
-    const double unit = target > 0 ? target : 1.0;
-    const double lambda = std::log(2.0) / 6.0 * (target > 0 ? 1.0 : 0.0);
     QuietWarnings quiet;
     for (size_t i = 0; i < candidates.size(); ++i) {
-      measure(candidates[i], p, bounds, frames, names, source.count, unit, lambda);
+      measure(candidates[i], p, bounds, frames, names, source.count, target);
       if (candidates[i].j < candidates[best].j) best = i;
       char text[160];
       std::snprintf(text, sizeof text, "%sGridBits %d MotionQuantStep %d: %.4g kbit, J %.6g",
