@@ -170,6 +170,31 @@ class Sequence:
         self.dataset = dataset          # texture: the dataset folder (see Sweep.use_results)
         self.dataset_text = dataset     # as written in the sweep file
         self.prepare = prepare or []    # texture: commands (argv lists) that make the dataset
+        self._dataset_json = None       # texture: (folder, dataset_json()) once read
+
+    def dataset_json(self):
+        """The dataset.json of a texture sequence, as a dict: read once, when first needed
+        (after `run` has prepared the dataset), and then kept for every job and key."""
+        if self._dataset_json is not None and self._dataset_json[0] == self.dataset:
+            return self._dataset_json[1]
+        name = os.path.join(self.dataset, "dataset.json")
+        try:
+            with open(name, encoding="utf-8") as f:
+                dataset = json.load(f)
+        except OSError as e:
+            raise SweepError("sequence '%s': cannot read %s (%s)%s" % (
+                self.name, name, e.strerror,
+                "; `3dvo-rd run` makes it with the sequence's prepare commands"
+                if self.prepare else "")) from None
+        except ValueError as e:
+            raise SweepError("sequence '%s': %s: %s" % (self.name, name, e)) from None
+        frames = dataset.get("frames", {}) if isinstance(dataset, dict) else None
+        first = frames.get("first", 0) if isinstance(frames, dict) else None
+        if not isinstance(first, int) or isinstance(first, bool):
+            raise SweepError("sequence '%s': %s: not a dataset (no frames table with an integer "
+                             "first frame)" % (self.name, name))
+        self._dataset_json = (self.dataset, dataset)
+        return dataset
 
     def frame_paths(self):
         return [frame_path(self.pattern, self.first_frame + k) for k in range(self.frame_count)]
@@ -180,7 +205,7 @@ class Sequence:
         if self.kind == "texture":
             keys.append(("Dataset", self.dataset))
             # With a Dataset the encoder's FirstFrame is a frame number, frames.first + index.
-            first += read_dataset(self).get("frames", {}).get("first", 0)
+            first += self.dataset_json().get("frames", {}).get("first", 0)
         keys += [("FirstFrame", str(first)), ("FrameCount", str(self.frame_count))]
         # Not set in a texture sweep: the encoder takes the dataset's frames.rate.
         if self.frame_rate is not None:
@@ -534,32 +559,11 @@ def _dataset_path(folder, path, number):
     return os.path.normpath(os.path.join(folder, path))
 
 
-def read_dataset(sequence):
-    """The dataset.json of a texture sequence, as a dict."""
-    name = os.path.join(sequence.dataset, "dataset.json")
-    try:
-        with open(name, encoding="utf-8") as f:
-            dataset = json.load(f)
-    except OSError as e:
-        raise SweepError("sequence '%s': cannot read %s (%s)%s" % (
-            sequence.name, name, e.strerror,
-            "; `3dvo-rd run` makes it with the sequence's prepare commands"
-            if sequence.prepare else "")) from None
-    except ValueError as e:
-        raise SweepError("sequence '%s': %s: %s" % (sequence.name, name, e)) from None
-    frames = dataset.get("frames", {}) if isinstance(dataset, dict) else None
-    first = frames.get("first", 0) if isinstance(frames, dict) else None
-    if not isinstance(first, int) or isinstance(first, bool):
-        raise SweepError("sequence '%s': %s: not a dataset (no frames table with an integer "
-                         "first frame)" % (sequence.name, name))
-    return dataset
-
-
 def dataset_input_hashes(sequence):
     """What a texture job reads, by content: the dataset's calibration (dataset.json without its
     file names) and the SHA-256 of every file the encoder and the metrics read for the coded
     frames (each camera's images or its video, and the meshes, or the sequence's pattern)."""
-    dataset = read_dataset(sequence)
+    dataset = sequence.dataset_json()
     frames = dataset.get("frames", {})
     first = frames.get("first", 0)
     numbers = [first + sequence.first_frame + k for k in range(sequence.frame_count)]

@@ -76,12 +76,12 @@ class TextureKind:
         out = ["| sequence | dataset | frames | cameras | frame rate | geometry |",
                "|---|---|---|---|---|---|"]
         for s in sweep.sequences:
-            cameras = next((r["cameras"] for r in rows if r["sequence"] == s.name), "n/a")
-            # The rate the encoder used (the sweep's frame_rate, else the dataset's).
-            rate = next((r["frame_rate"] for r in rows if r["sequence"] == s.name), "n/a")
+            # Its cameras and the rate the encoder used (the sweep's frame_rate, else the
+            # dataset's), from any of its rows.
+            row = next((r for r in rows if r["sequence"] == s.name), None)
             out.append("| %s | `%s` | %d from %d | %s | %s | %s |" % (
                 s.name, s.dataset_text, s.frame_count, s.first_frame,
-                cameras, rate,
+                row["cameras"] if row else "n/a", row["frame_rate"] if row else "n/a",
                 "`%s`" % os.path.relpath(s.pattern, sweep.root) if s.pattern
                 else "the dataset's meshes"))
         prepared = [s for s in sweep.sequences if s.prepare]
