@@ -115,13 +115,29 @@ def write_json_atomic(path, value):
 
 def write_text_atomic(path, text):
     """Writes a text file (a page, a CSV) under a temporary name beside it and renames it, so
-    that it is never seen half-written; the file gets the permissions a new file gets."""
+    that it is never seen half-written; the file gets the permissions a new file gets (unlike
+    write_json_atomic's mkstemp, 0600). The temporary name is new (created exclusively, so no
+    file of that name is overwritten) and removed when the write fails."""
     folder = os.path.dirname(os.path.abspath(path))
     os.makedirs(folder, exist_ok=True)
-    temp = os.path.join(folder, ".tmp-" + os.path.basename(path))
-    with open(temp, "w", encoding="utf-8", newline="") as f:
-        f.write(text)
-    os.replace(temp, path)
+    while True:
+        temp = os.path.join(folder, ".tmp-%s-%s" % (os.path.basename(path),
+                                                    os.urandom(4).hex()))
+        try:
+            f = open(temp, "x", encoding="utf-8", newline="")
+            break
+        except FileExistsError:
+            continue
+    try:
+        with f:
+            f.write(text)
+        os.replace(temp, path)
+    except BaseException:
+        try:
+            os.unlink(temp)
+        except OSError:
+            pass
+        raise
 
 
 class _StageFailed(Exception):

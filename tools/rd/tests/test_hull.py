@@ -46,7 +46,15 @@ class PageTest(unittest.TestCase):
 
     def test_writes_and_rewrites_its_own_page_only(self):
         page = os.path.join(self.tmp, "results-quality.md")
+        # A file that bears the page's old temporary name is someone else's: it stays.
+        bystander = os.path.join(self.tmp, ".tmp-results-quality.md")
+        with open(bystander, "w") as f:
+            f.write("someone's\n")
         self.assertEqual(self.run_hull("--out", page).returncode, 0)
+        with open(bystander) as f:
+            self.assertEqual(f.read(), "someone's\n")
+        self.assertEqual(sorted(n for n in os.listdir(self.tmp) if n.startswith(".tmp-")),
+                         [".tmp-results-quality.md"])  # no temporary file left
         with open(page) as f:
             first = f.read()
         self.assertIn("| Quality=50 | 200.0 | 0.5000 |", first)
