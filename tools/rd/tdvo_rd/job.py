@@ -92,16 +92,13 @@ def read_result(results_dir, key):
     return result
 
 
-def write_json_atomic(path, value):
-    """Writes JSON under a temporary name in the same folder and renames it: readers see either
-    no file or the whole file, also when the writer is killed midway."""
-    folder = os.path.dirname(path)
-    os.makedirs(folder, exist_ok=True)
-    fd, temp = tempfile.mkstemp(prefix=".tmp-", suffix=".json", dir=folder)
+def _replace_atomically(path, temp, f, write):
+    """Calls write(f) on `f`, the open temporary file `temp` beside `path`, flushes it to disk
+    and renames it to `path`: readers see either no file or the whole file, also when the
+    writer is killed midway. On any failure the temporary file is removed."""
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            json.dump(value, f, indent=1, sort_keys=True)
-            f.write("\n")
+        with f:
+            write(f)
             f.flush()
             os.fsync(f.fileno())
         os.replace(temp, path)
@@ -113,11 +110,24 @@ def write_json_atomic(path, value):
         raise
 
 
+def write_json_atomic(path, value):
+    """Writes a job result as JSON (_replace_atomically; the file is private, mode 0600, as
+    mkstemp makes it)."""
+    folder = os.path.dirname(path)
+    os.makedirs(folder, exist_ok=True)
+    fd, temp = tempfile.mkstemp(prefix=".tmp-", suffix=".json", dir=folder)
+
+    def write(f):
+        json.dump(value, f, indent=1, sort_keys=True)
+        f.write("\n")
+
+    _replace_atomically(path, temp, os.fdopen(fd, "w", encoding="utf-8"), write)
+
+
 def write_text_atomic(path, text):
-    """Writes a text file (a page, a CSV) under a temporary name beside it and renames it, so
-    that it is never seen half-written; the file gets the permissions a new file gets (unlike
-    write_json_atomic's mkstemp, 0600). The temporary name is new (created exclusively, so no
-    file of that name is overwritten) and removed when the write fails."""
+    """Writes a text file (a page, a CSV; _replace_atomically) with the permissions a new file
+    gets. The temporary name is new, created exclusively, so no file of that name is
+    overwritten."""
     folder = os.path.dirname(os.path.abspath(path))
     os.makedirs(folder, exist_ok=True)
     while True:
@@ -128,16 +138,7 @@ def write_text_atomic(path, text):
             break
         except FileExistsError:
             continue
-    try:
-        with f:
-            f.write(text)
-        os.replace(temp, path)
-    except BaseException:
-        try:
-            os.unlink(temp)
-        except OSError:
-            pass
-        raise
+    _replace_atomically(path, temp, f, lambda f: f.write(text))
 
 
 class _StageFailed(Exception):
