@@ -363,7 +363,7 @@ def write_outputs(sweep, results, binary_hashes, results_dir, page=None, command
     write_text_atomic(os.path.join(results_dir, "bd.csv"), bd_csv)
     if page is None:
         return rows, table
-    check_page(page)
+    check_page(page)  # again (the cli checked before the jobs): it may have appeared since
     files_dir = page[:-3]
     os.makedirs(files_dir, exist_ok=True)
     write_text_atomic(os.path.join(files_dir, "rd.csv"), rd_csv)
