@@ -124,21 +124,27 @@ def write_json_atomic(path, value):
     _replace_atomically(path, temp, os.fdopen(fd, "w", encoding="utf-8"), write)
 
 
-def write_text_atomic(path, text):
-    """Writes a text file (a page, a CSV; _replace_atomically) with the permissions a new file
-    gets. The temporary name is new, created exclusively, so no file of that name is
-    overwritten."""
+def write_atomic(path, write, binary=False):
+    """Writes a file (a page, a CSV, a plot; _replace_atomically) by calling write(f), with the
+    permissions a new file gets. The temporary name is new, created exclusively, so no file of
+    that name is overwritten; the rename replaces `path` itself (a symbolic link there is
+    replaced, its target is left alone)."""
     folder = os.path.dirname(os.path.abspath(path))
     os.makedirs(folder, exist_ok=True)
     while True:
         temp = os.path.join(folder, ".tmp-%s-%s" % (os.path.basename(path),
                                                     os.urandom(4).hex()))
         try:
-            f = open(temp, "x", encoding="utf-8", newline="")
+            f = open(temp, "xb") if binary else open(temp, "x", encoding="utf-8", newline="")
             break
         except FileExistsError:
             continue
-    _replace_atomically(path, temp, f, lambda f: f.write(text))
+    _replace_atomically(path, temp, f, write)
+
+
+def write_text_atomic(path, text):
+    """Writes a text file atomically (write_atomic)."""
+    write_atomic(path, lambda f: f.write(text))
 
 
 class _StageFailed(Exception):

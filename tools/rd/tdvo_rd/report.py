@@ -22,7 +22,7 @@ import os
 
 from . import bdrate
 from . import texture_report
-from .job import write_text_atomic
+from .job import write_atomic, write_text_atomic
 from .sweep import PAGE_MARKER, SweepError, check_page
 
 # CSV columns, in order. Metric columns hold the text 3dvo-metrics printed (10 significant
@@ -276,8 +276,12 @@ def plot(rows, options, labels, distortion, sequence, stem):
     axes.grid(True, which="both", alpha=0.3)
     axes.legend()
     figure.tight_layout()
-    figure.savefig(stem + ".png", dpi=100, metadata={"Software": None})
-    figure.savefig(stem + ".svg", metadata={"Date": None, "Creator": None})
+    write_atomic(stem + ".png", lambda f: figure.savefig(f, format="png", dpi=100,
+                                                         metadata={"Software": None}),
+                 binary=True)
+    write_atomic(stem + ".svg", lambda f: figure.savefig(f, format="svg",
+                                                         metadata={"Date": None, "Creator": None}),
+                 binary=True)
     plt.close(figure)
 
 

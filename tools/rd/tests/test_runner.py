@@ -213,9 +213,16 @@ class LocalRunTest(TempDirTestCase):
         for distortion in ("D_A", "kg_error", "sted"):
             self.assertIn("blob3,%s,intra,d3dmc,pchip," % distortion, bd)
 
-        os.unlink(page)
+        # A plot that is a symbolic link is replaced, not written through.
+        elsewhere = os.path.join(self.tmp, "elsewhere.svg")
+        with open(elsewhere, "w") as f:
+            f.write("not a plot\n")
+        os.unlink(os.path.join(files, "blob3-D_A.svg"))
+        os.symlink(elsewhere, os.path.join(files, "blob3-D_A.svg"))
         out = support.run_rd("report", self.sweep, "--results", self.results, "--bin-dir",
                              bin_dir, "--out", page)
+        self.assertEqual(support.read_text(elsewhere), "not a plot\n")
+        self.assertFalse(os.path.islink(os.path.join(files, "blob3-D_A.svg")))
         self.assertIn("12 of 12 jobs", out.stdout)
         self.assertEqual(support.count_lines(self.count), calls)   # nothing encoded
         self.assertEqual(support.read_text(page), first)                  # the same page
@@ -235,6 +242,18 @@ class LocalRunTest(TempDirTestCase):
         self.assertEqual(support.count_lines(self.count), calls)   # no job ran
         self.assertEqual(support.read_text(mine), "# My notes\n")
         self.assertFalse(os.path.exists(os.path.join(self.tmp, "docs", "notes")))
+
+        # Nor are the files of a folder that has the figures' name but no page beside it.
+        theirs = os.path.join(self.tmp, "docs", "theirs")
+        os.makedirs(theirs)
+        with open(os.path.join(theirs, "rd.csv"), "w") as f:
+            f.write("my own rows\n")
+        out = support.run_rd("report", self.sweep, "--results", self.results, "--bin-dir",
+                             bin_dir, "--out", theirs + ".md", check=False)
+        self.assertEqual(out.returncode, 1)
+        self.assertIn("theirs exists, is not empty and has no page theirs.md", out.stderr)
+        self.assertEqual(support.read_text(os.path.join(theirs, "rd.csv")), "my own rows\n")
+        self.assertFalse(os.path.exists(theirs + ".md"))
 
         # Without results for the current binaries, report refuses (unless --partial).
         empty = os.path.join(self.tmp, "empty")
