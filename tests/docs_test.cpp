@@ -1,6 +1,7 @@
 // The documentation against the apps (docs/options.md says this test exists): every cfg key that
 // 3dvo-enc and 3dvo-dec --help list has a row on docs/options.md and every row there is a key of
-// the app, and every app takes --help and --version (docs/user-guide.md, "Every app").
+// the app, and every app takes --help and --version and fails when its output cannot be
+// written (docs/user-guide.md, "Every app").
 #include <gtest/gtest.h>
 
 #include <regex>
@@ -74,6 +75,24 @@ TEST(Docs, EveryAppTakesHelpAndVersion) {
       const test::CommandResult r = test::run(dir, kBin + "/" + app, {option});
       EXPECT_EQ(r.exitCode, 0) << app << " " << option << ": " << r.err;
       EXPECT_FALSE(r.out.empty()) << app << " " << option;
+    }
+  }
+}
+
+// What an app prints must reach standard output: when it cannot (a full disk, here /dev/full),
+// the run is an error with exit status 1 and says so, instead of a success with a lost report.
+TEST(Docs, EveryAppFailsWhenItsOutputCannotBeWritten) {
+  test::TempDir dir("docs-full");
+  for (const char* app : {"3dvo-enc", "3dvo-dec", "3dvo-metrics", "3dvo-render", "3dvo-recon",
+                          "3dvo-import", "3dvo-synth", "3dvo-sample", "3dvo-play", "3dvo-rd"}) {
+    for (const char* option : {"--help", "--version"}) {
+      const std::string command =
+          test::shellQuote(kBin + "/" + app) + " " + option + " > /dev/full";
+      const test::CommandResult r = test::run(dir, "/bin/sh", {"-c", command});
+      EXPECT_EQ(r.exitCode, 1) << app << " " << option << ": " << r.err;
+      EXPECT_NE(r.err.find(std::string(app) + ": error: cannot write to standard output"),
+                std::string::npos)
+          << app << " " << option << ": " << r.err;
     }
   }
 }

@@ -3,10 +3,13 @@
 // SIGTERM and SIGHUP remove the run's unfinished output files first (interrupt.h).
 #pragma once
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <new>
 #include <stdexcept>
+#include <string>
 
 #include "common/core/error.h"
 #include "common/core/interrupt.h"
@@ -23,7 +26,14 @@ int runApp(const char* app, Body body) {
     std::fprintf(stderr, "%s: warning: %s\n", app, message.c_str());
   });
   try {
-    return body();
+    const int status = body();
+    // What the app printed (its report, its summary) must have reached standard output: a full
+    // disk or a closed file there is an error, not a success with a lost report.
+    errno = 0;
+    if (std::fflush(stdout) != 0 || std::ferror(stdout))
+      throw Error(std::string("cannot write to standard output (") +
+                  (errno != 0 ? std::strerror(errno) : "a write failed") + ")");
+    return status;
   } catch (const Error& e) {
     std::fprintf(stderr, "%s: error: %s\n", app, e.what());
     return 1;
