@@ -115,20 +115,7 @@ int main(int argc, char** argv) {
       inputs.add(params.gomListFile);
       for (size_t k = 0; k < source.count; ++k)
         inputs.add(source.name(k));
-      if (input) {
-        inputs.add(input->resolve(kDatasetFileName));
-        for (const DatasetCamera& c : input->cameras)
-          for (const std::string* file :
-               {&c.images, &c.video, &c.masks, &c.background, &c.backgroundVideo})
-            for (size_t k = 0; !file->empty() && k < source.count; ++k) {
-              // Dataset frame number FirstFrame + k is the dataset's frame index k + FirstFrame
-              // - frames.first.
-              const int64_t index = int64_t{params.firstFrame} - input->firstFrame + int64_t(k);
-              if (index < 0 || index >= input->frameCount) break;  // refused later, clearly
-              inputs.add(input->framePath(*file, static_cast<int>(index)));
-              if (!hasFrameConversion(*file)) break;
-            }
-      }
+      if (input) addDatasetFiles(inputs, *input);  // every file of the dataset
       inputs.checkOutput(params.bitstreamFile);
       if (!params.reconMeshPattern.empty())
         for (size_t k = 0; k < source.count; ++k)

@@ -2136,6 +2136,25 @@ class DatasetRows : public ErrorsTest {
     test::writeText(dir_.file("x/dataset.json"), text);
     test::writeBytes(dir_.file("x/cam/0000.png"), encodePng(Image(8, 6, 3, 128)));
   }
+  // Two frames of RGBA images (the alpha is the shape) and meshes: what 3dvo-metrics' texture
+  // mode, 3dvo-recon and 3dvo-render read.
+  void writeTwoFrames() {
+    std::filesystem::create_directories(dir_.path() / "x" / "cam");
+    std::filesystem::create_directories(dir_.path() / "x" / "m");
+    test::writeText(dir_.file("x/dataset.json"),
+                    R"({"format": "3dvo-dataset", "version": 1, "frames": {"count": 2},
+ "meshes": "m/%04d.obj",
+ "cameras": [{"name": "cam", "width": 8, "height": 6, "fx": 10, "fy": 10, "cx": 3.5, "cy": 2.5,
+   "R": [[1, 0, 0], [0, 1, 0], [0, 0, 1]], "t": [0, 0, 5], "images": "cam/%04d.png",
+   "alphaMask": true}]}
+)");
+    for (const char* frame : {"0000", "0001"}) {
+      test::writeBytes(dir_.file("x/cam/" + std::string(frame) + ".png"),
+                       encodePng(Image(8, 6, 4, 200)));
+      test::writeText(dir_.file("x/m/" + std::string(frame) + ".obj"),
+                      "v -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0 0.5 0\nf 1 2 3\n");
+    }
+  }
   void expectDatasetRow(const std::string& id, const std::string& from = "",
                         const std::string& to = "") {
     writeDataset(from, to);
@@ -2240,6 +2259,25 @@ DATASET_TEST(J23) {
   expectDatasetRow("J23", "\"name\": \"cam\"", "\"name\": \"../..\"");
   expectRow("J23", "3dvo-recon", {"-i", "x", "-o", "out", "--WriteSilhouettes=true"});
   expectRow("J23", "3dvo-render", {"-i", "x", "-o", "out"});
+}
+
+DATASET_TEST(J24) {
+  writeTwoFrames();
+  expectRow(
+      "J24", "3dvo-metrics",
+      {"--ReferenceDataset=x", "--TestDataset=x", "--FrameCount=1", "--CsvFile=x/cam/0001.png"});
+  EXPECT_EQ(test::readBytes(dir_.file("x/cam/0001.png")), encodePng(Image(8, 6, 4, 200)));
+}
+
+DATASET_TEST(J25) {
+  writeTwoFrames();
+  expectRow("J25", "3dvo-recon", {"-i", "x", "-o", "x/cam", "--Overwrite"});
+  EXPECT_EQ(test::readBytes(dir_.file("x/cam/0000.png")), encodePng(Image(8, 6, 4, 200)));
+}
+
+DATASET_TEST(J26) {
+  writeTwoFrames();
+  expectRow("J26", "3dvo-render", {"-i", "x", "-o", "out", "--Mp4=out/0001.png"});
 }
 
 DATASET_TEST(J15) {

@@ -24,6 +24,7 @@
 #include "common/core/file_io.h"
 #include "common/core/interrupt.h"
 #include "common/core/obj_io.h"
+#include "common/core/sequence.h"
 #include "tests/test_support.h"
 
 namespace tdvo {
@@ -336,6 +337,47 @@ TEST(OutputFolders, OverwriteRefusesAFolderHoldingAnInput) {
   std::filesystem::create_symlink("out/in", dir.file("link"));
   EXPECT_THROW(OutputFolder(dir.file("out"), true, {dir.file("link/x.3dvo")}), Error);
   EXPECT_EQ(test::readText(dir.file("out/in/x.3dvo")), "stream");
+}
+
+// frameOfPath inverts framePath exactly: the same padding, one conversion, "%%" a percent sign.
+TEST(FramePattern, FrameOfPathInvertsFramePath) {
+  for (const std::string pattern : {"a/%04d.png", "%d.obj", "x%%y/%3d-z.obj.gz"})
+    for (const int frame : {0, 7, 42, 12345, -3, 2147483647})
+      EXPECT_EQ(frameOfPath(pattern, framePath(pattern, frame)), frame) << pattern << " " << frame;
+  EXPECT_EQ(frameOfPath("a/%04d.png", "a/7.png"), std::nullopt);  // other padding
+  EXPECT_EQ(frameOfPath("a/%04d.png", "a/00007.png"), std::nullopt);
+  EXPECT_EQ(frameOfPath("a/%04d.png", "b/0007.png"), std::nullopt);
+  EXPECT_EQ(frameOfPath("a/%04d.png", "a/.png"), std::nullopt);
+  EXPECT_EQ(frameOfPath("a/%04d.png", "a/00x7.png"), std::nullopt);
+  EXPECT_EQ(frameOfPath("a/%d.png", "a/99999999999.png"), std::nullopt);  // beyond an int
+  EXPECT_EQ(frameOfPath("x%%y/%d", "x%y/5"), 5);
+}
+
+// A sequence added as a pattern protects each of its frames from being an output, whether the
+// file exists or not and under any spelling or link of its folder; other frames and other
+// names are not inputs.
+TEST(InputFilesTest, APatternProtectsEveryFrameOfTheSequence) {
+  test::TempDir dir("input-pattern");
+  std::filesystem::create_directories(dir.file("seq"));
+  test::writeText(dir.file("seq/0003.png"), "three");
+  std::filesystem::create_directory_symlink("seq", dir.file("link"));
+  InputFiles inputs;
+  inputs.addPattern(dir.file("seq/%04d.png"), 2, 5);  // frames 2 .. 6
+  for (const std::string name :
+       {"seq/0003.png", "seq/0006.png", "link/0002.png", "seq/../seq/0004.png"}) {
+    try {
+      inputs.checkOutput(dir.file(name));
+      ADD_FAILURE() << name << " was not refused";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(": is the input "), std::string::npos) << e.what();
+    }
+  }
+  for (const std::string name :
+       {"seq/0001.png", "seq/0007.png", "seq/3.png", "seq/0003.jpg", "other/0003.png"})
+    EXPECT_NO_THROW(inputs.checkOutput(dir.file(name))) << name;
+  std::filesystem::create_symlink(dir.file("seq/0003.png"), dir.file("out.csv"));
+  EXPECT_THROW(inputs.checkOutput(dir.file("out.csv")), Error);  // a link to frame 3
+  EXPECT_EQ(test::readText(dir.file("seq/0003.png")), "three");
 }
 
 }  // namespace

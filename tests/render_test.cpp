@@ -672,6 +672,9 @@ TEST_F(SynthRig, OutputFileThatIsAnInputIsRefused) {
       {{"--Csv=link.csv"}, "link.csv", "rig/cam01/mask_0000.png"},
       {{"--Csv=rig/meshes/0000.obj"}, "rig/meshes/0000.obj", "rig/meshes/0000.obj"},
       {{"--Reference=rig", "--Csv=rig/cam04/0000.png"}, "rig/cam04/0000.png", "rig/cam04/0000.png"},
+      // Files of the dataset the run does not read: a later frame, a camera not selected.
+      {{"--Csv=rig/meshes/0001.obj"}, "rig/meshes/0001.obj", "rig/meshes/0001.obj"},
+      {{"--Csv=rig/cam01/0001.png"}, "rig/cam01/0001.png", "rig/cam01/0001.png"},
       {{"-c", "r.cfg", "--Csv=r.cfg"}, "r.cfg", "r.cfg"}};
   for (const Case& c : cases) {
     std::vector<std::string> args = loo;
@@ -693,6 +696,52 @@ TEST_F(SynthRig, OutputFileThatIsAnInputIsRefused) {
     EXPECT_EQ(test::readText(dir.file(mp4)), before) << mp4;
     EXPECT_FALSE(fs::exists(dir.file("out")));
   }
+}
+
+// --Overwrite may not replace a folder that holds an input: a folder of the dataset's image or
+// mesh sequences, a cfg file's folder. And the MP4 or CSV may not be one of the run's own
+// renders. Each is refused before anything is written; the files stay.
+TEST_F(SynthRig, OutputsThatWouldDeleteInputsOrEachOtherAreRefused) {
+  test::TempDir dir("app-overwrite");
+  fs::copy(folder_->file("rig"), dir.file("rig"), fs::copy_options::recursive);
+  fs::create_directory(dir.file("cfg"));
+  test::writeText(dir.file("cfg/r.cfg"), "Width : 32\nHeight : 24\n");
+  const std::string app = std::string(TDVO_BIN_DIR) + "/3dvo-render";
+  struct Case {
+    std::vector<std::string> args;
+    std::string message, kept;
+  };
+  const std::vector<Case> cases = {
+      {{"-i", "rig", "-o", "rig/meshes", "--Overwrite", "--OrbitSteps=2", "--Width=32",
+        "--Height=24"},
+       "rig/meshes: --Overwrite would delete the input rig/meshes,",
+       "rig/meshes/0000.obj"},
+      {{"-i", "rig", "-o", "rig/cam01", "--Overwrite", "--Mode=leave-one-out", "--SaveRenders",
+        "--FrameCount=1", "--Cameras=cam00,cam01,cam02"},
+       "rig/cam01: --Overwrite would delete the input rig/cam01,",
+       "rig/cam01/mask_0000.png"},
+      {{"-i", "rig", "-c", "cfg/r.cfg", "-o", "cfg", "--Overwrite", "--OrbitSteps=2"},
+       "cfg: --Overwrite would delete the input cfg/r.cfg,",
+       "cfg/r.cfg"},
+      {{"-i", "rig", "-o", "views", "--OrbitSteps=2", "--Width=32", "--Height=24",
+        "--Mp4=views/0001.png"},
+       "views/0001.png: is this run's output views/0001.png (frame 1 of views/%04d.png)",
+       ""},
+      {{"-i", "rig", "-o", "held", "--Mode=leave-one-out", "--SaveRenders", "--FrameCount=1",
+        "--Cameras=cam00,cam01,cam02", "--Csv=held/cam02/0000.png"},
+       "held/cam02/0000.png: is this run's output held/cam02/0000.png",
+       ""}};
+  for (const Case& c : cases) {
+    const std::string before = c.kept.empty() ? "" : test::readText(dir.file(c.kept));
+    const test::CommandResult r = test::run(dir, app, c.args);
+    EXPECT_EQ(r.exitCode, 1) << c.message << ": " << r.out;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    if (!c.kept.empty()) {
+      EXPECT_EQ(test::readText(dir.file(c.kept)), before) << c.kept;
+    }
+  }
+  EXPECT_FALSE(fs::exists(dir.file("views")));
+  EXPECT_FALSE(fs::exists(dir.file("held")));
 }
 
 TEST_F(SynthRig, AppRendersOrbitsLeaveOneOutAndReportsBadInput) {

@@ -183,6 +183,16 @@ TEST(TextureMetricsApp, CsvFileThatIsAnInputIsRefused) {
     EXPECT_NE(r.err.find("refusing to overwrite it"), std::string::npos) << r.err;
     EXPECT_EQ(test::readText(dir.file(target)), before) << csv;
   }
+  // Nor is any other file of the datasets: here a frame that is not compared.
+  const std::string before = test::readText(dir.file("dec/cam/0001.png"));
+  const auto r = test::run(dir, kBin + "/3dvo-metrics",
+                           {"--ReferenceDataset=ref", "--TestDataset=dec", "--FrameCount=1",
+                            "--CsvFile=dec/cam/0001.png"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("dec/cam/0001.png: is the input dec/cam/0001.png (frame 1 of "),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(test::readText(dir.file("dec/cam/0001.png")), before);
 }
 
 TEST(TextureMetricsApp, HandMadeDatasetsGiveTheClosedFormPsnr) {

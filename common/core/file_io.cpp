@@ -11,9 +11,11 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "common/core/error.h"
 #include "common/core/interrupt.h"
+#include "common/core/sequence.h"
 #include "common/core/text_tokens.h"
 
 namespace tdvo {
@@ -336,13 +338,37 @@ void InputFiles::add(const std::string& path) {
     files_.emplace(std::pair{st.st_dev, st.st_ino}, path);
 }
 
+void InputFiles::addPattern(const std::string& pattern, int firstNumber, int count,
+                            const std::string& role) {
+  if (pattern.empty() || count <= 0) return;
+  std::error_code ec;
+  const fs::path resolved = fs::weakly_canonical(fs::absolute(pattern, ec), ec);
+  patterns_.push_back({pattern,
+                       ec ? fs::absolute(pattern).lexically_normal().string() : resolved.string(),
+                       firstNumber, count, role});
+}
+
 void InputFiles::checkOutput(const std::string& output) const {
+  if (output.empty()) return;
   struct stat st;
-  if (output.empty() || ::stat(output.c_str(), &st) != 0) return;
-  const auto it = files_.find({st.st_dev, st.st_ino});
-  if (it != files_.end())
-    throw Error(output + ": is the input " + it->second +
-                " (the same file); refusing to overwrite it");
+  if (::stat(output.c_str(), &st) == 0) {
+    const auto it = files_.find({st.st_dev, st.st_ino});
+    if (it != files_.end())
+      throw Error(output + ": is the input " + it->second +
+                  " (the same file); refusing to overwrite it");
+  }
+  if (patterns_.empty()) return;
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(output, ec);
+  if (ec) return;
+  const fs::path resolved = fs::weakly_canonical(absolute, ec);
+  const std::string path = ec ? absolute.lexically_normal().string() : resolved.string();
+  for (const Pattern& p : patterns_) {
+    const std::optional<int> frame = frameOfPath(p.resolved, path);
+    if (frame && *frame >= p.first && *frame - p.first < p.count)
+      throw Error(output + ": is " + p.role + " " + framePath(p.given, *frame) + " (frame " +
+                  std::to_string(*frame) + " of " + p.given + "); refusing to overwrite it");
+  }
 }
 
 namespace {

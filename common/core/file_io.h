@@ -99,13 +99,25 @@ class StagedFiles {
 // A run's input files by identity (device and inode, links followed), so that an output
 // naming one of them, under any spelling or through any link, is refused before anything is
 // written: "OUTPUT: is the input INPUT (the same file); refusing to overwrite it".
+// A frame-numbered sequence (a pattern with frames firstNumber .. firstNumber + count - 1) is
+// added as its pattern: an output is refused when its path, links resolved, is the path of one
+// of those frames, whether that file exists or not, at a cost that does not grow with count.
 class InputFiles {
  public:
   void add(const std::string& path);  // a missing file (or an empty name) is ignored
+  // `role` names what the files are in the message ("the input", "this run's output").
+  void addPattern(const std::string& pattern, int firstNumber, int count,
+                  const std::string& role = "the input");
   void checkOutput(const std::string& output) const;
 
  private:
+  struct Pattern {
+    std::string given, resolved;  // as given; absolute, with the links of its folders resolved
+    int64_t first, count;
+    std::string role;
+  };
   std::map<std::pair<dev_t, ino_t>, std::string> files_;
+  std::vector<Pattern> patterns_;
 };
 
 // An app's output folder (docs/user-guide.md, "Output folders"). The constructor refuses a

@@ -1,5 +1,6 @@
 #include "common/core/sequence.h"
 
+#include <climits>
 #include <cstdio>
 
 #include "common/core/error.h"
@@ -65,6 +66,31 @@ std::string framePath(const std::string& pattern, int frame) {
   char number[48];
   std::snprintf(number, sizeof number, c.zeroPad ? "%0*d" : "%*d", c.width, frame);
   return unescape(pattern.substr(0, c.start)) + number + unescape(pattern.substr(c.end));
+}
+
+std::optional<int> frameOfPath(const std::string& pattern, const std::string& path) {
+  const Conversion c = findConversion(pattern, "frame pattern");
+  const std::string prefix = unescape(pattern.substr(0, c.start));
+  const std::string suffix = unescape(pattern.substr(c.end));
+  if (path.size() < prefix.size() + suffix.size() + 1 || path.compare(0, prefix.size(), prefix) ||
+      path.compare(path.size() - suffix.size(), suffix.size(), suffix))
+    return std::nullopt;
+  const std::string number =
+      path.substr(prefix.size(), path.size() - prefix.size() - suffix.size());
+  // The number as framePath writes it: blanks (%Nd), a sign, digits; an int has at most 10.
+  size_t i = number.find_first_not_of(' ');
+  if (i == std::string::npos) return std::nullopt;
+  const bool negative = number[i] == '-';
+  i += negative;
+  if (i == number.size() || number.size() - i > 10 ||
+      number.find_first_not_of("0123456789", i) != std::string::npos)
+    return std::nullopt;
+  const long long magnitude = std::stoll(number.substr(i));
+  const long long value = negative ? -magnitude : magnitude;
+  if (value < INT_MIN || value > INT_MAX) return std::nullopt;
+  const int frame = static_cast<int>(value);
+  if (framePath(pattern, frame) != path) return std::nullopt;
+  return frame;
 }
 
 }  // namespace tdvo

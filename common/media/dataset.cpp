@@ -131,6 +131,55 @@ std::string Dataset::framePath(const std::string& pattern, int frame) const {
   return resolve(tdvo::framePath(pattern, firstFrame + frame));
 }
 
+namespace {
+
+// The paths a dataset names, resolved: each camera's, then the meshes.
+std::vector<std::string> namedPaths(const Dataset& d) {
+  std::vector<std::string> paths;
+  for (const DatasetCamera& c : d.cameras)
+    for (const std::string* file :
+         {&c.images, &c.video, &c.masks, &c.background, &c.backgroundVideo})
+      if (!file->empty()) paths.push_back(d.resolve(*file));
+  if (!d.meshes.empty()) paths.push_back(d.resolve(d.meshes));
+  return paths;
+}
+
+}  // namespace
+
+void addDatasetFiles(InputFiles& inputs, const Dataset& d) {
+  inputs.add(d.resolve(kDatasetFileName));
+  for (const std::string& path : namedPaths(d)) {
+    if (hasFrameConversion(path))
+      inputs.addPattern(path, d.firstFrame, d.frameCount);
+    else
+      inputs.add(path);
+  }
+}
+
+std::vector<std::string> datasetPaths(const Dataset& d) {
+  std::vector<std::string> paths = {d.resolve(kDatasetFileName)};
+  for (const std::string& path : namedPaths(d)) {
+    if (!hasFrameConversion(path)) {
+      paths.push_back(path);
+      continue;
+    }
+    // The sequence's folder: the path up to the last '/' before the conversion, its "%%" the
+    // percent signs they stand for.
+    std::string folder;
+    for (size_t i = 0; i < path.size(); ++i) {
+      if (path[i] == '%' && i + 1 < path.size() && path[i + 1] == '%') {
+        folder += path[i++];
+        continue;
+      }
+      if (path[i] == '%') break;
+      folder += path[i];
+    }
+    const size_t slash = folder.rfind('/');
+    paths.push_back(slash == std::string::npos ? "." : slash == 0 ? "/" : folder.substr(0, slash));
+  }
+  return paths;
+}
+
 size_t Dataset::cameraIndex(const std::string& name) const {
   for (size_t i = 0; i < cameras.size(); ++i)
     if (cameras[i].camera.name == name) return i;

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "common/core/file_io.h"
 #include "common/core/mesh.h"
 #include "common/views/camera.h"
 #include "common/views/image.h"
@@ -60,6 +61,15 @@ struct Dataset {
 
 // True when `path` holds a frame-number conversion (%d, %Nd, %0Nd).
 bool hasFrameConversion(const std::string& path);
+
+// Every file a dataset names (dataset.json, each camera's images, video, masks, background and
+// background video, the meshes; sequences over all the dataset's frames), for protecting them
+// from a run's outputs: as InputFiles (an output file that is one of them is refused), and as
+// the paths that an output folder replaced with --Overwrite may not hold (dataset.json, each
+// still file, and the folder of each sequence: its pattern's path up to the last '/' before
+// the conversion).
+void addDatasetFiles(InputFiles& inputs, const Dataset& dataset);
+std::vector<std::string> datasetPaths(const Dataset& dataset);
 
 // Reads `folderOrFile`/dataset.json (or the named JSON file) and checks its structure: required
 // fields present with valid values, no unknown keys, rotations orthonormal, camera names unique,

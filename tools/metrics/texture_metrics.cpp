@@ -124,21 +124,14 @@ int runTextureMetrics(const TextureMetricsParams& p) {
                                  " from frame " + std::to_string(p.referenceFirstFrame) + " and " +
                                  testName + " from frame " + std::to_string(p.testFirstFrame) +
                                  " have only " + std::to_string(available));
-  // The CSV file may not replace an input (docs/user-guide.md, "Output files"): the datasets,
-  // the images of the compared frames and the stream, by file identity, before any is read.
+  // The CSV file may not replace an input (docs/user-guide.md, "Output files"): any file of the
+  // datasets (addDatasetFiles: every frame, camera and mask, the meshes) and the stream, by
+  // file identity or sequence path, before any is read.
   if (!p.csvFile.empty()) {
     InputFiles inputs;
-    inputs.add(referenceName);
-    inputs.add(testName);
     inputs.add(p.bitstream);
-    for (const auto& [d, first] :
-         {std::pair{&reference, p.referenceFirstFrame}, std::pair{&test, p.testFirstFrame}})
-      for (const DatasetCamera& c : d->cameras)
-        for (const std::string* file : {&c.images, &c.video})
-          for (int k = 0; !file->empty() && k < frames; ++k) {
-            inputs.add(d->framePath(*file, first + k));
-            if (!hasFrameConversion(*file)) break;
-          }
+    addDatasetFiles(inputs, reference);
+    addDatasetFiles(inputs, test);
     inputs.checkOutput(p.csvFile);
   }
 

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     table.addVersionLines(tdvo::mediaLibraryVersions());
     if (!table.parseCommandLine(argc, argv)) return 0;
     tdvo::checkReconParams(params);
+    params.cfgFiles = table.filesRead();
     std::printf("# 3dvo-recon effective configuration\n%s", table.effectiveConfig().c_str());
     std::fflush(stdout);
     tdvo::runReconstruction(params, stdout);

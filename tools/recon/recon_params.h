@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "common/core/config.h"
 #include "tools/recon/calibration_refinement.h"
@@ -17,14 +18,15 @@ enum class GomMode { adaptive, fixed };
 
 struct ReconParams {
   // Input and output.
-  std::string input;             // dataset folder, or anything tools/multiview imports
-  std::string inputMeshPattern;  // or: an OBJ sequence to track (no reconstruction)
-  std::string output;            // output folder
-  bool overwrite = false;        // replace a non-empty output folder's contents
-  int firstFrame = 0;            // dataset frame index / number of the first input mesh file
-  int frameCount = 0;            // frames to process; 0: every frame from firstFrame on
-  std::string cameras;           // comma-separated camera names to use; empty: all
-  std::string excludeCameras;    // comma-separated camera names to leave out
+  std::string input;                  // dataset folder, or anything tools/multiview imports
+  std::string inputMeshPattern;       // or: an OBJ sequence to track (no reconstruction)
+  std::string output;                 // output folder
+  bool overwrite = false;             // replace a non-empty output folder's contents
+  std::vector<std::string> cfgFiles;  // the cfg files read (not a key): never replaced
+  int firstFrame = 0;                 // dataset frame index / number of the first input mesh file
+  int frameCount = 0;                 // frames to process; 0: every frame from firstFrame on
+  std::string cameras;                // comma-separated camera names to use; empty: all
+  std::string excludeCameras;         // comma-separated camera names to leave out
   std::string outputMeshPattern = "%04d.obj";  // OBJ name inside Output, numbered from 0
   bool writeSilhouettes = false;               // silhouettes/<camera>/%04d.png
   bool writeHull = false;  // hull/%04d.obj: each frame's reconstruction before tracking

@@ -214,10 +214,19 @@ ReconResult runReconstruction(const ReconParams& params, std::FILE* log) {
   // Output folders; files are staged and renamed together at the end.
   namespace fs = std::filesystem;
   const std::string out = params.output;
-  OutputFolder files(out, params.overwrite,
-                     {params.input, params.inputMeshPattern.empty()
-                                        ? std::string()
-                                        : framePath(params.inputMeshPattern, params.firstFrame)});
+  // --Overwrite may not delete an input: the cfg files, the dataset's files and sequence
+  // folders, the input meshes' folder.
+  std::vector<std::string> inputs = params.cfgFiles;
+  inputs.push_back(params.input);
+  if (dataset)
+    for (std::string& path : datasetPaths(*dataset))
+      inputs.push_back(std::move(path));
+  if (!params.inputMeshPattern.empty()) {
+    inputs.push_back(framePath(params.inputMeshPattern, params.firstFrame));
+    const std::string folder = fs::path(params.inputMeshPattern).parent_path().string();
+    inputs.push_back(folder.empty() ? "." : folder);
+  }
+  OutputFolder files(out, params.overwrite, inputs);
 
   if (reconstructor && params.refineCalibration) {
     const CalibrationRefinementResult r =

@@ -5,6 +5,7 @@
 //   3dvo-render -i DATA -o out/ --Mp4=orbit.mp4          ... and an MP4
 //   3dvo-render -i DATA -o out/ --Path=camera --Camera=cam03     every frame from cam03's pose
 //   3dvo-render -i DATA --Mode=leave-one-out             PSNR table on stdout
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -203,36 +204,31 @@ std::vector<int> selectFrames(const Dataset& d, int first, int count) {
 }
 
 // An output file (Mp4, Csv) may not replace an input (docs/user-guide.md, "Output files"),
-// under any name or link: `files` (the cfg files, the poses), and of each dataset its
-// dataset.json and the meshes and camera files (of every camera, also those not selected) of
-// the frames used (`frames`: indices of datasets[0]; another dataset's frames are those of the
-// same frame numbers).
+// under any name or link: `files` (the cfg files, the poses), and every file of each dataset
+// (addDatasetFiles: its dataset.json, meshes and camera files, of every frame and camera).
 void checkNotAnInput(const std::string& output, const std::vector<const Dataset*>& datasets,
-                     const std::vector<int>& frames, const std::vector<std::string>& files) {
+                     const std::vector<std::string>& files) {
   if (output.empty()) return;
   InputFiles inputs;
   for (const std::string& file : files)
     inputs.add(file);
-  for (const Dataset* d : datasets) {
-    inputs.add(d->resolve(kDatasetFileName));
-    std::vector<const std::string*> patterns = {&d->meshes};
-    for (const DatasetCamera& c : d->cameras)
-      for (const std::string* file :
-           {&c.images, &c.video, &c.masks, &c.background, &c.backgroundVideo})
-        patterns.push_back(file);
-    for (const std::string* pattern : patterns)
-      for (const int f : frames) {
-        const int64_t index = int64_t{datasets[0]->firstFrame} + f - d->firstFrame;
-        if (pattern->empty()) break;
-        if (index < 0 || index >= d->frameCount) continue;
-        inputs.add(d->framePath(*pattern, static_cast<int>(index)));
-        if (!hasFrameConversion(*pattern)) break;
-      }
-  }
+  for (const Dataset* d : datasets)
+    addDatasetFiles(inputs, *d);
   inputs.checkOutput(output);
 }
 
-void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames) {
+// What an output folder replaced with --Overwrite may not hold: `files` and the datasets'
+// files and sequence folders (datasetPaths).
+std::vector<std::string> protectedPaths(const std::vector<const Dataset*>& datasets,
+                                        std::vector<std::string> files) {
+  for (const Dataset* d : datasets)
+    for (std::string& path : datasetPaths(*d))
+      files.push_back(std::move(path));
+  return files;
+}
+
+void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames,
+               const std::vector<std::string>& inputs) {
   check(!p.output.empty(), "no output folder given (-o DIR)");
   checkFramePattern(p.outputPattern, "OutputPattern");
   std::vector<CameraFrames> cameraFrames;
@@ -272,7 +268,12 @@ void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames
       viewFrames.push_back(p.frame >= 0 ? p.frame : frames[k % frames.size()]);
   }
 
-  OutputFolder files(p.output, p.overwrite, {p.input, p.poses});
+  // The MP4 may not be one of the views written into the folder.
+  InputFiles written;
+  written.addPattern((fs::path(p.output) / p.outputPattern).string(), 0,
+                     static_cast<int>(views.size()), "this run's output");
+  written.checkOutput(p.mp4);
+  OutputFolder files(p.output, p.overwrite, inputs);
   std::unique_ptr<Mp4Writer> mp4;
   std::optional<FrameViews> loaded;
   int loadedFrame = -1;
@@ -329,18 +330,26 @@ int main(int argc, char** argv) {
     inputFiles.push_back(p.poses);
 
     if (p.mode == Mode::render) {
-      checkNotAnInput(p.mp4, {&full}, frames, inputFiles);
-      runRender(p, d, frames);
+      checkNotAnInput(p.mp4, {&full}, inputFiles);
+      inputFiles.push_back(p.input);
+      runRender(p, d, frames, protectedPaths({&full}, inputFiles));
     } else {
       check(d.cameras.size() >= 2, "leave-one-out needs at least two cameras");
       check(!p.saveRenders || !p.output.empty(), "SaveRenders needs an output folder (-o DIR)");
       std::optional<Dataset> reference;
-      std::vector<std::string> inputs = {p.input};
-      if (!p.reference.empty()) {
-        reference = readDataset(p.reference);
-        inputs.push_back(p.reference);
+      if (!p.reference.empty()) reference = readDataset(p.reference);
+      const std::vector<const Dataset*> datasets = {&full, reference ? &*reference : &full};
+      checkNotAnInput(p.csv, datasets, inputFiles);
+      if (p.saveRenders && !p.csv.empty()) {  // nor one of the renders it saves
+        InputFiles renders;
+        for (const DatasetCamera& c : d.cameras)
+          renders.addPattern((fs::path(p.output) / c.camera.name / "%04d.png").string(), 0, INT_MAX,
+                             "this run's output");
+        renders.checkOutput(p.csv);
       }
-      checkNotAnInput(p.csv, {&full, reference ? &*reference : &full}, frames, inputFiles);
+      inputFiles.push_back(p.input);
+      inputFiles.push_back(p.reference);
+      const std::vector<std::string> inputs = protectedPaths(datasets, inputFiles);
       const std::vector<LeaveOneOutRow> rows =
           leaveOneOut(d, frames, p.render, p.saveRenders ? p.output : "", p.overwrite, inputs,
                       reference ? &*reference : nullptr);
