@@ -201,6 +201,29 @@ TEST(CarvingView, VerdictsAgreeWithSignedDistances) {
     EXPECT_GT(seen[v], 0) << "verdict " << int(v) << " never reached";
 }
 
+// A box whose projection lies far beyond any int (a focal length of 1e12 pixels, a box just in
+// front of the camera) is judged without overflowing: 3dvo-recon crashed on such cameras.
+TEST(CarvingView, BoxesProjectedFarOutsideTheImageAreJudged) {
+  const Mesh object = sphere({0, 0, 0}, 1);
+  for (const double focal : {1e12, 1e300}) {
+    Camera camera = ringCameras(1, {0, 0, 0}, 1.2)[0];
+    lookAt(camera, {0, 0, 4}, {0, 0, 0}, {0, 1, 0});
+    camera.fx = camera.fy = focal;
+    const Image mask = renderMask(object, camera);
+    const CarvingView view(CanvasMap::build(camera), mask);
+    // Straddling the optical axis: corners to both sides of the image, far outside, so the
+    // box is clipped (never judged wholly outside or unseen).
+    const ViewVerdict straddling = view.judgeBox({-0.5, -0.5, -0.5}, {0.5, 0.5, 0.5});
+    EXPECT_TRUE(straddling == ViewVerdict::insideClipped || straddling == ViewVerdict::partial)
+        << focal << ": " << int(straddling);
+    // Off the axis: wholly beyond the image.
+    EXPECT_EQ(view.judgeBox({1, 1, -0.5}, {1.5, 1.5, 0.5}), ViewVerdict::unseen) << focal;
+    // Just in front of the camera plane.
+    EXPECT_NE(view.judgeBox({-1e-9, -1e-9, 3.999}, {1e-9, 1e-9, 3.9999}), ViewVerdict::outside)
+        << focal;
+  }
+}
+
 TEST(CarvingView, DistortedCameraCanvasHoldsTheWholeFieldOfView) {
   Camera camera = ringCameras(1, {0, 0, 0}, 1.2, 200, 150)[0];
   camera.distortion.k1 = -0.3;  // barrel: the undistorted field is larger than the image

@@ -139,11 +139,13 @@ ViewVerdict CarvingView::judgeBox(const Vec3d& lo, const Vec3d& hi) const {
   const double maxX = width_ - 1, maxY = height_ - 1;
   if (x1 < 0 || y1 < 0 || x0 > maxX || y0 > maxY) return ViewVerdict::unseen;
   bool clipped = x0 < 0 || y0 < 0 || x1 > maxX || y1 > maxY;
-  // Pixels a bilinear lookup of any point in the rectangle can touch.
-  const int i0 = std::max(0, static_cast<int>(std::floor(x0)));
-  const int j0 = std::max(0, static_cast<int>(std::floor(y0)));
-  const int i1 = std::min(width_ - 1, static_cast<int>(std::floor(x1)) + 1);
-  const int j1 = std::min(height_ - 1, static_cast<int>(std::floor(y1)) + 1);
+  // Pixels a bilinear lookup of any point in the rectangle can touch. The corners are clamped
+  // to the image before they become integers: a corner far outside (a long focal length, a
+  // box near the camera plane) is beyond any int.
+  const int i0 = static_cast<int>(std::floor(std::max(x0, 0.0)));
+  const int j0 = static_cast<int>(std::floor(std::max(y0, 0.0)));
+  const int i1 = static_cast<int>(std::floor(std::min(x1, maxX))) + (x1 < maxX ? 1 : 0);
+  const int j1 = static_cast<int>(std::floor(std::min(y1, maxY))) + (y1 < maxY ? 1 : 0);
   const size_t stride = static_cast<size_t>(width_) + 1;
   auto sum = [&](const std::vector<uint32_t>& table) {
     auto at = [&](int i, int j) { return table[static_cast<size_t>(j) * stride + i]; };

@@ -137,6 +137,11 @@ PhotoRefineStats photoRefine(Mesh& surface, const std::vector<Camera>& cameras,
         if (facing < cosLimit) continue;
         Vec2d px;
         if (!camera.project(p, px)) continue;
+        // In the image (the nearest pixel), checked before the rounding, which a projection far
+        // outside would overflow.
+        if (!(px[0] >= -0.5 && px[1] >= -0.5 && px[0] < camera.width - 0.5 &&
+              px[1] < camera.height - 0.5))
+          continue;
         const int x = static_cast<int>(std::lround(px[0])),
                   y = static_cast<int>(std::lround(px[1]));
         if (x < 0 || y < 0 || x >= camera.width || y >= camera.height) continue;
