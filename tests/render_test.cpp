@@ -797,5 +797,20 @@ TEST_F(SynthRig, AppRendersOrbitsLeaveOneOutAndReportsBadInput) {
       << r.err;
   r = test::run(dir, app, {"-i", input, "--Sharpness=-1"});
   EXPECT_EQ(r.exitCode, 1);
+  // A pose file's camera may not be larger than --Width and --Height may: a few bytes of JSON
+  // would make the renderer allocate gigabytes.
+  std::string poses = test::readText(folder_->file("rig/dataset.json"));
+  for (const char* key : {"\"width\": ", "\"height\": "})
+    for (size_t at = poses.find(key); at != std::string::npos; at = poses.find(key, at + 1)) {
+      const size_t from = at + std::string(key).size();
+      poses.replace(from, poses.find_first_of(",}", from) - from, "20000");
+    }
+  test::writeText(dir.file("big.json"), poses);
+  r = test::run(dir, app, {"-i", input, "-o", "x", "--Path=poses", "--Poses=big.json"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("big.json: camera 'cam00': image size 20000 x 20000 is larger than a "
+                       "rendered view may be (16384 x 16384)"),
+            std::string::npos)
+      << r.err;
   EXPECT_FALSE(fs::exists(dir.path() / "x"));
 }

@@ -142,8 +142,16 @@ std::vector<Camera> readPoses(const std::string& path, const Camera& intrinsics,
   std::vector<Camera> poses;
   if (path.size() >= 5 && path.compare(path.size() - 5, 5, ".json") == 0) {
     const Dataset d = readDataset(path);
-    for (const DatasetCamera& c : d.cameras)
+    for (const DatasetCamera& c : d.cameras) {
+      // Its image size is the rendered view's: the limit of --Width and --Height applies (a
+      // dataset's own cameras have their images, which bound their size; these have none).
+      check(c.camera.width <= kMaxViewSize && c.camera.height <= kMaxViewSize,
+            path + ": camera '" + c.camera.name + "': image size " +
+                std::to_string(c.camera.width) + " x " + std::to_string(c.camera.height) +
+                " is larger than a rendered view may be (" + std::to_string(kMaxViewSize) + " x " +
+                std::to_string(kMaxViewSize) + ")");
       poses.push_back(c.camera);
+    }
     return poses;
   }
   std::istringstream in(readTextFile(path, kMaxTextFileBytes, "a camera path"));

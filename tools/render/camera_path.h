@@ -54,10 +54,14 @@ struct OrbitParams {
 std::vector<Camera> orbitPath(const Dataset& dataset, const Vec3d& centre, const Vec3d& up,
                               const Camera& intrinsics, const OrbitParams& params);
 
+// The largest width and height of a rendered view (--Width, --Height, a pose file's cameras).
+constexpr int kMaxViewSize = 16384;
+
 // Poses from a file. A `.json` file is read as a dataset (common/media/dataset.h) and its cameras
-// are the poses, intrinsics and distortion included. Any other file is text: one pose per line,
-// `eye_x eye_y eye_z  target_x target_y target_z` with an optional `up_x up_y up_z` (default
-// `up`), camera looking from the eye at the target with the given intrinsics; blank lines and
+// are the poses, intrinsics and distortion included (image sizes at most kMaxViewSize). Any other
+// file is text: one pose per line, `eye_x eye_y eye_z  target_x target_y target_z` with an optional
+// `up_x up_y up_z` (default `up`), camera looking from the eye at the target with the given
+// intrinsics; blank lines and
 // `#` comments are skipped. Errors name the file and line.
 std::vector<Camera> readPoses(const std::string& path, const Camera& intrinsics, const Vec3d& up);
 

@@ -112,8 +112,8 @@ struct Params {
     t.add("Frame", frame, -1, 1 << 30,
           "frame index to show on every view of an orbit or pose list (-1: advance one frame per "
           "view, looping)");
-    t.add("Width", width, 0, 16384, "virtual image width (0: camera 0's)");
-    t.add("Height", height, 0, 16384, "virtual image height (0: camera 0's)");
+    t.add("Width", width, 0, kMaxViewSize, "virtual image width (0: camera 0's)");
+    t.add("Height", height, 0, kMaxViewSize, "virtual image height (0: camera 0's)");
     t.add("FieldOfView", fieldOfView, 0, 170,
           "virtual horizontal field of view, degrees (0: camera 0's focal length)");
     t.section("Output");
