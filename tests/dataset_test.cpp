@@ -132,6 +132,33 @@ TEST(Dataset, PathsAreRewrittenRelativeToTheOutputFolder) {
             fs::path(dir / "source/cam1/03.png"));
 }
 
+// A folder name holding '%' (here "take%d") and an output folder that is a symbolic link: the
+// written dataset.json reads back to the same files (image and mesh sequences, a still mask, a
+// video, whose path is literal). Before, the folder's '%d' became a second frame conversion,
+// and paths were relative to the link rather than to its target.
+TEST(Dataset, WrittenPathsReadBackToTheSameFiles) {
+  TempFolder dir("dataset_percent");
+  Dataset d = smallDataset(dir / "take%d");
+  d.cameras[1].images.clear();
+  d.cameras[1].video = "v%d.avi";  // literal
+  fs::create_directories(fs::path(dir / "real/deep"));
+  fs::create_directory_symlink(fs::path(dir / "real/deep"), fs::path(dir / "link"));
+  writeDataset(d, dir / "link");
+  const Dataset r = readDataset(dir / "link/dataset.json");
+  const auto same = [](const std::string& a, const std::string& b) {
+    return fs::weakly_canonical(a) == fs::weakly_canonical(b);
+  };
+  EXPECT_EQ(r.cameras[0].images, "../../take%%d/cam0/%02d.png");
+  EXPECT_TRUE(same(r.framePath(r.cameras[0].images, 1), dir / "take%d/cam0/04.png"))
+      << r.framePath(r.cameras[0].images, 1);
+  EXPECT_TRUE(same(r.framePath(r.cameras[0].masks, 0), dir / "take%d/cam0/mask.png"))
+      << r.framePath(r.cameras[0].masks, 0);
+  EXPECT_TRUE(same(r.framePath(r.meshes, 0), dir / "take%d/meshes/0003.obj"))
+      << r.framePath(r.meshes, 0);
+  EXPECT_TRUE(same(r.resolve(r.cameras[1].video), dir / "take%d/v%d.avi"))
+      << r.resolve(r.cameras[1].video);
+}
+
 TEST(Dataset, StructuralErrorsNameTheField) {
   EXPECT_NO_THROW(parseDataset(kMinimal, "d.json", "."));
   expectError("{", "d.json: invalid JSON");

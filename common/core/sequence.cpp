@@ -68,6 +68,19 @@ std::string framePath(const std::string& pattern, int frame) {
   return unescape(pattern.substr(0, c.start)) + number + unescape(pattern.substr(c.end));
 }
 
+std::string escapePercent(const std::string& literal) {
+  std::string out;
+  for (const char c : literal) {
+    out += c;
+    if (c == '%') out += '%';
+  }
+  return out;
+}
+
+std::string unescapePercent(const std::string& text) {
+  return unescape(text);
+}
+
 std::optional<int> frameOfPath(const std::string& pattern, const std::string& path) {
   const Conversion c = findConversion(pattern, "frame pattern");
   const std::string prefix = unescape(pattern.substr(0, c.start));

@@ -13,6 +13,12 @@ void checkFramePattern(const std::string& pattern, const std::string& what);
 // The file name of frame `frame`: the pattern with its conversion replaced by the number.
 std::string framePath(const std::string& pattern, int frame);
 
+// A literal path as the text of a pattern (or of a path that may be read as one): each '%'
+// doubled, so that a folder named "take%d" stays that folder.
+std::string escapePercent(const std::string& literal);
+// The literal path a pattern text without a conversion stands for: each "%%" one '%'.
+std::string unescapePercent(const std::string& text);
+
 // The frame number whose framePath(pattern) is `path` exactly, if there is one (a path that
 // only looks alike, e.g. with other padding, is none).
 std::optional<int> frameOfPath(const std::string& pattern, const std::string& path);

@@ -127,20 +127,38 @@ std::string Dataset::framePath(const std::string& pattern, int frame) const {
   check(frame >= 0 && frame < frameCount, "frame index " + std::to_string(frame) +
                                               " out of range (the dataset has " +
                                               std::to_string(frameCount) + " frames)");
-  if (!hasFrameConversion(pattern)) return resolve(pattern);
+  if (!hasFrameConversion(pattern)) return resolve(unescapePercent(pattern));
   return resolve(tdvo::framePath(pattern, firstFrame + frame));
 }
 
 namespace {
 
-// The paths a dataset names, resolved: each camera's, then the meshes.
-std::vector<std::string> namedPaths(const Dataset& d) {
-  std::vector<std::string> paths;
-  for (const DatasetCamera& c : d.cameras)
-    for (const std::string* file :
-         {&c.images, &c.video, &c.masks, &c.background, &c.backgroundVideo})
-      if (!file->empty()) paths.push_back(d.resolve(*file));
-  if (!d.meshes.empty()) paths.push_back(d.resolve(d.meshes));
+// The files a dataset names, resolved: each camera's, then the meshes. A sequence is its
+// pattern text; a still file or a video its literal path.
+struct NamedPath {
+  std::string path;
+  bool sequence;
+};
+
+std::vector<NamedPath> namedPaths(const Dataset& d) {
+  std::vector<NamedPath> paths;
+  const auto patternText = [&](const std::string& text) {
+    if (text.empty()) return;
+    if (hasFrameConversion(text))  // the folder's name as pattern text too
+      paths.push_back({fs::path(text).is_absolute() || d.folder.empty()
+                           ? text
+                           : (fs::path(escapePercent(d.folder)) / text).generic_string(),
+                       true});
+    else
+      paths.push_back({d.framePath(text, 0), false});
+  };
+  for (const DatasetCamera& c : d.cameras) {
+    for (const std::string* text : {&c.images, &c.masks, &c.background})
+      patternText(*text);
+    for (const std::string* video : {&c.video, &c.backgroundVideo})
+      if (!video->empty()) paths.push_back({d.resolve(*video), false});
+  }
+  patternText(d.meshes);
   return paths;
 }
 
@@ -148,23 +166,24 @@ std::vector<std::string> namedPaths(const Dataset& d) {
 
 void addDatasetFiles(InputFiles& inputs, const Dataset& d) {
   inputs.add(d.resolve(kDatasetFileName));
-  for (const std::string& path : namedPaths(d)) {
-    if (hasFrameConversion(path))
-      inputs.addPattern(path, d.firstFrame, d.frameCount);
+  for (const NamedPath& named : namedPaths(d)) {
+    if (named.sequence)
+      inputs.addPattern(named.path, d.firstFrame, d.frameCount);
     else
-      inputs.add(path);
+      inputs.add(named.path);
   }
 }
 
 std::vector<std::string> datasetPaths(const Dataset& d) {
   std::vector<std::string> paths = {d.resolve(kDatasetFileName)};
-  for (const std::string& path : namedPaths(d)) {
-    if (!hasFrameConversion(path)) {
-      paths.push_back(path);
+  for (const NamedPath& named : namedPaths(d)) {
+    if (!named.sequence) {
+      paths.push_back(named.path);
       continue;
     }
     // The sequence's folder: the path up to the last '/' before the conversion, its "%%" the
     // percent signs they stand for.
+    const std::string& path = named.path;
     std::string folder;
     for (size_t i = 0; i < path.size(); ++i) {
       if (path[i] == '%' && i + 1 < path.size() && path[i + 1] == '%') {
@@ -377,18 +396,31 @@ class ObjectWriter {
 
 std::string formatDataset(const Dataset& d, const std::string& outputFolder) {
   checkDataset(d, "dataset");
-  const fs::path base = fs::absolute(outputFolder).lexically_normal();
-  auto relative = [&](const std::string& path) -> std::string {
+  // Paths are relative to d.folder, a literal folder name. Image, mask, background and mesh
+  // paths are pattern text ("%%" a percent sign), video paths literal. Both folders are taken
+  // as they are on disk (links resolved, so that ".." leads where the file system's ".."
+  // does), and written as the field's kind of text.
+  const auto real = [](const std::string& folder) {
+    std::error_code ec;
+    const fs::path canonical = fs::weakly_canonical(fs::absolute(folder), ec);
+    return (ec ? fs::absolute(folder).lexically_normal() : canonical).generic_string();
+  };
+  const std::string base = real(outputFolder), from = real(d.folder);
+  auto relative = [&](const std::string& path, bool patternText) -> std::string {
     if (fs::path(path).is_absolute()) return jsonValue(path);
-    const fs::path absolutePath = fs::absolute(d.resolve(path)).lexically_normal();
+    const auto text = [&](const std::string& folder) {
+      return fs::path(patternText ? escapePercent(folder) : folder);
+    };
+    const fs::path absolutePath = (text(from) / path).lexically_normal();
+    const fs::path baseText = text(base);
     // Relative only when both lie under the same top-level folder: "../../work/…" from /tmp
     // would be correct but would break as soon as either side moves.
     auto top = [](const fs::path& p) {
       auto it = p.begin();
       return ++it == p.end() ? fs::path() : *it;  // the component after the root
     };
-    const fs::path rel = absolutePath.lexically_relative(base);
-    const bool sameTop = top(absolutePath) == top(base);
+    const fs::path rel = absolutePath.lexically_relative(baseText);
+    const bool sameTop = top(absolutePath) == top(baseText);
     return jsonValue(rel.empty() || !sameTop ? absolutePath.generic_string()
                                              : rel.generic_string());
   };
@@ -400,7 +432,7 @@ std::string formatDataset(const Dataset& d, const std::string& outputFolder) {
   top.member("frames", "{\"first\": " + jsonValue(d.firstFrame) + ", \"count\": " +
                            jsonValue(d.frameCount) + ", \"rate\": " + jsonValue(d.frameRate) + "}");
   if (d.up) top.member("up", jsonArray(*d.up));
-  if (!d.meshes.empty()) top.member("meshes", relative(d.meshes));
+  if (!d.meshes.empty()) top.member("meshes", relative(d.meshes, true));
   std::string cameras = "[";
   for (size_t i = 0; i < d.cameras.size(); ++i) {
     const DatasetCamera& dc = d.cameras[i];
@@ -423,12 +455,13 @@ std::string formatDataset(const Dataset& d, const std::string& outputFolder) {
     j.member("R", "[" + jsonArray(c.R[0]) + ",\n" + std::string(12, ' ') + jsonArray(c.R[1]) +
                       ",\n" + std::string(12, ' ') + jsonArray(c.R[2]) + "]");
     j.member("t", jsonArray(c.t));
-    if (!dc.images.empty()) j.member("images", relative(dc.images));
-    if (!dc.video.empty()) j.member("video", relative(dc.video));
-    if (!dc.masks.empty()) j.member("masks", relative(dc.masks));
+    if (!dc.images.empty()) j.member("images", relative(dc.images, true));
+    if (!dc.video.empty()) j.member("video", relative(dc.video, false));
+    if (!dc.masks.empty()) j.member("masks", relative(dc.masks, true));
     if (dc.alphaMask) j.member("alphaMask", "true");
-    if (!dc.background.empty()) j.member("background", relative(dc.background));
-    if (!dc.backgroundVideo.empty()) j.member("backgroundVideo", relative(dc.backgroundVideo));
+    if (!dc.background.empty()) j.member("background", relative(dc.background, true));
+    if (!dc.backgroundVideo.empty())
+      j.member("backgroundVideo", relative(dc.backgroundVideo, false));
     if (dc.textureBox) {
       const std::array<int, 4>& b = *dc.textureBox;
       j.member("textureBox", "[" + jsonValue(b[0]) + ", " + jsonValue(b[1]) + ", " +

@@ -53,7 +53,8 @@ struct Dataset {
 
   // A path of the dataset as a usable file name: `folder`/`path` unless `path` is absolute.
   std::string resolve(const std::string& path) const;
-  // The file of frame index `frame` for a pattern or still path (resolved).
+  // The file of frame index `frame` for a pattern or still path (resolved). Image, mask,
+  // background and mesh paths are pattern text: "%%" is a '%', in a still path too.
   std::string framePath(const std::string& pattern, int frame) const;
   // Index of the camera with this name; throws Error when there is none.
   size_t cameraIndex(const std::string& name) const;

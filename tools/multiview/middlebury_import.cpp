@@ -6,6 +6,7 @@
 
 #include "common/core/error.h"
 #include "common/core/file_io.h"
+#include "common/core/sequence.h"
 #include "common/media/png_io.h"
 #include "tools/multiview/importers.h"
 
@@ -77,8 +78,8 @@ Dataset importMiddlebury(const std::string& parFile) {
     check(isRotation(R, 1e-4), where + ": R is not a rotation matrix");
     c.R = nearestRotation(R);
     c.t = {v[18], v[19], v[20]};
-    dc.images = t[0];
-    readPngSize(d.resolve(dc.images), c.width, c.height);
+    dc.images = escapePercent(t[0]);  // a file name, as a dataset path's text
+    readPngSize(d.resolve(t[0]), c.width, c.height);
     d.cameras.push_back(std::move(dc));
   }
   check(declared >= 0, parFile + ": empty calibration file");

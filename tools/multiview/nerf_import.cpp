@@ -7,6 +7,7 @@
 
 #include "common/core/error.h"
 #include "common/core/file_io.h"
+#include "common/core/sequence.h"
 #include "common/media/png_io.h"
 #include "tools/multiview/importers.h"
 
@@ -66,9 +67,10 @@ Dataset importNerf(const std::string& transformsFile) {
     if (fs::path(file).extension().empty()) file += ".png";
     DatasetCamera dc;
     Camera& c = dc.camera;
-    dc.images = fs::path(file).lexically_normal().generic_string();
+    const std::string normal = fs::path(file).lexically_normal().generic_string();
+    dc.images = escapePercent(normal);  // a file name, as a dataset path's text
     c.name = fs::path(file).stem().string();
-    const std::string imagePath = d.resolve(dc.images);
+    const std::string imagePath = d.resolve(normal);
     if (root.contains("w") && root.contains("h")) {
       // Checked before the conversion to int, which is undefined for values beyond its range.
       const double w = number(root, "w", transformsFile), h = number(root, "h", transformsFile);

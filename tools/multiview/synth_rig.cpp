@@ -269,9 +269,10 @@ Dataset writeSyntheticDataset(const SynthParams& p) {
   for (const Camera& c : cameras) {
     DatasetCamera dc;
     dc.camera = c;
-    dc.images = c.name + "/%04d.png";
-    dc.masks = c.name + "/mask_%04d.png";
-    dc.background = c.name + "/background.png";
+    const std::string folder = escapePercent(c.name);  // the name, as a dataset path's text
+    dc.images = folder + "/%04d.png";
+    dc.masks = folder + "/mask_%04d.png";
+    dc.background = folder + "/background.png";
     d.cameras.push_back(dc);
   }
 
@@ -284,7 +285,7 @@ Dataset writeSyntheticDataset(const SynthParams& p) {
     files.write(path, bytes.data(), bytes.size());
   };
   for (const DatasetCamera& dc : d.cameras)
-    stagePng(d.resolve(dc.background), background);
+    stagePng(d.framePath(dc.background, 0), background);
 
   const Mesh& first = content.frames.front();
   std::vector<Vec3d> texturePosition(first.positions.size());

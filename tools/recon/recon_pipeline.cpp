@@ -348,7 +348,9 @@ ReconResult runReconstruction(const ReconParams& params, std::FILE* log) {
   result.goms = builder.goms();
 
   // GOM list, encoder cfg files, reports.
-  const std::string pattern = fs::absolute(fs::path(out) / params.outputMeshPattern).string();
+  // The folder's name as pattern text ("%" doubled), then the meshes' own pattern.
+  const std::string pattern =
+      (fs::path(escapePercent(fs::absolute(out).string())) / params.outputMeshPattern).string();
   files.write(out + "/goms.txt", formatGomList(result.goms));
   int commonSize = result.goms.front().second;
   bool uniform = true;
