@@ -159,6 +159,20 @@ TEST(Dataset, WrittenPathsReadBackToTheSameFiles) {
       << r.resolve(r.cameras[1].video);
 }
 
+// JSON text is UTF-8: a name that is not (a folder named with byte 0xFF) cannot be written, and
+// that is an Error saying so (it was an internal error from the JSON library).
+TEST(Dataset, ANameThatIsNotUtf8IsAnErrorWhenWritten) {
+  TempFolder dir("dataset_utf8");
+  const Dataset d = smallDataset(dir / "take\xff");
+  try {
+    formatDataset(d, dir.str());
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("take\\xFF/"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("is not UTF-8 text"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Dataset, StructuralErrorsNameTheField) {
   EXPECT_NO_THROW(parseDataset(kMinimal, "d.json", "."));
   expectError("{", "d.json: invalid JSON");

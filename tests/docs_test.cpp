@@ -76,6 +76,10 @@ TEST(Docs, EveryAppTakesHelpAndVersion) {
       EXPECT_EQ(r.exitCode, 0) << app << " " << option << ": " << r.err;
       EXPECT_FALSE(r.out.empty()) << app << " " << option;
     }
+    // A bad argument is the user's error, exit code 1 (2 means an internal error).
+    const test::CommandResult r = test::run(dir, kBin + "/" + app, {"--no-such-option"});
+    EXPECT_EQ(r.exitCode, 1) << app << ": " << r.err;
+    EXPECT_NE(r.err.find(std::string(app) + ": error: "), std::string::npos) << r.err;
   }
 }
 

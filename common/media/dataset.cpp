@@ -365,7 +365,18 @@ std::string jsonValue(int v) {
   return Json(v).dump();
 }
 std::string jsonValue(const std::string& v) {
-  return Json(v).dump();
+  try {
+    return Json(v).dump();
+  } catch (const Json::type_error&) {  // not UTF-8: JSON text cannot hold it
+    std::string shown;
+    for (const unsigned char c : v) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02X", c);
+      shown += c >= 0x20 && c < 0x7F ? std::string(1, char(c)) : std::string(hex);
+    }
+    throw Error("'" + shown + "' is not UTF-8 text, which a dataset.json (JSON) cannot hold; " +
+                "rename the file, folder or camera");
+  }
 }
 template <size_t N>
 std::string jsonArray(const std::array<double, N>& values) {

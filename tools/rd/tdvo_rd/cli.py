@@ -19,8 +19,17 @@ def default_bin_dir():
     return os.environ.get("TDVO_BIN_DIR") or os.path.join(_REPO, "build", "bin")
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with the apps' exit code for bad arguments: 1 (argparse's 2 means an internal
+    error in the 3DVO apps, docs/user-guide.md, "Errors")."""
+
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        self.exit(1, "%s: error: %s\n" % (self.prog, message))
+
+
 def _parser():
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="3dvo-rd",
         description="Rate-distortion sweeps of 3dvo-enc: every sequence x coding mode x setting "
                     "is a cached job (encode, decode, metrics); outputs CSV, BD-rate tables, "
