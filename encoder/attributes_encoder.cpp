@@ -7,6 +7,7 @@
 
 #include "bitstream/cabac_io.h"
 #include "common/core/error.h"
+#include "common/core/warnings.h"
 
 namespace tdvo {
 
@@ -113,23 +114,40 @@ AttributesEncoding encodeAttributes(const IntMesh& input, const IMeshEncoding& i
     if (twins.empty()) twins = inputTwins(input, i, inputOf, name);
     return twins;
   };
-  auto tooMany = [&](size_t count, const char* what) {
-    if (count > maxValues)
-      throw Error(name + ": " + std::to_string(count) + " " + what + " for " +
-                  std::to_string(i.order.triangles.size()) +
-                  " output triangles: more than their corners (values no corner uses cannot "
-                  "be carried)");
+  // A stream carries at most one value per output corner (at_num_uvs, at_num_normals). When a
+  // file has more, some are values no corner refers to: those are left out (with a warning),
+  // the others keep their order.
+  auto fitCorners = [&](auto& values, std::vector<Triangle>& indices, const char* one,
+                        const char* many) {
+    if (values.size() <= maxValues) return;
+    std::vector<uint32_t> newIndex(values.size(), UINT32_MAX);
+    for (const Triangle& t : indices)
+      for (const uint32_t k : t)
+        newIndex[k] = 0;
+    std::remove_reference_t<decltype(values)> kept;
+    for (size_t k = 0; k < values.size(); ++k)
+      if (newIndex[k] == 0) {
+        newIndex[k] = static_cast<uint32_t>(kept.size());
+        kept.push_back(values[k]);
+      }
+    for (Triangle& t : indices)
+      for (uint32_t& k : t)
+        k = newIndex[k];
+    const size_t left = values.size() - kept.size();
+    warn(name + ": " + std::to_string(left) + " " + (left == 1 ? one : many) +
+         " that no face corner refers to: left out (the stream carries at most one per corner)");
+    values = std::move(kept);
   };
   if (uvs && perVertex(in.uvTriangles, in.uvs.size(), input)) {
     at.at_uv_mode = static_cast<uint8_t>(UvMode::kPerVertex);
     for (uint32_t v : inputOf)
       m.uvs.push_back(in.uvs[v]);
   } else if (uvs) {
-    tooMany(in.uvs.size(), "texture coordinates");
     at.at_uv_mode = static_cast<uint8_t>(UvMode::kPerCorner);
-    at.at_num_uvs = static_cast<uint32_t>(in.uvs.size());
     m.uvs = in.uvs;
     m.uvTriangles = outputIndices(in.uvTriangles, twinsOnce());
+    fitCorners(m.uvs, m.uvTriangles, "texture coordinate", "texture coordinates");
+    at.at_num_uvs = static_cast<uint32_t>(m.uvs.size());
   }
   if (normals == NormalMode::kComputed) {
     at.at_normal_mode = static_cast<uint8_t>(NormalMode::kComputed);
@@ -139,11 +157,11 @@ AttributesEncoding encodeAttributes(const IntMesh& input, const IMeshEncoding& i
     for (uint32_t v : inputOf)
       m.normals.push_back(in.normals[v]);
   } else if (normals != NormalMode::kNone) {
-    tooMany(in.normals.size(), "normals");
     at.at_normal_mode = static_cast<uint8_t>(NormalMode::kPerCorner);
-    at.at_num_normals = static_cast<uint32_t>(in.normals.size());
     m.normals = in.normals;
     m.normalTriangles = outputIndices(in.normalTriangles, twinsOnce());
+    fitCorners(m.normals, m.normalTriangles, "normal", "normals");
+    at.at_num_normals = static_cast<uint32_t>(m.normals.size());
   }
   if (at.at_uv_mode != 0) {
     at.at_uv_quant_bits = static_cast<uint8_t>(uvQuantBits);

@@ -471,6 +471,34 @@ TEST(AttributesRoundTrip, EncoderRefusesWhatItWouldLose) {
       << late.err;
 }
 
+// An OBJ file with more texture coordinates than face corners (values no corner refers to): those
+// are left out with a warning, and every corner keeps its value. (The encoder refused the file.)
+TEST(AttributesRoundTrip, ValuesNoCornerRefersToAreLeftOut) {
+  test::TempDir dir("attributes-unused");
+  std::filesystem::create_directories(dir.path() / "in");
+  for (const char* frame : {"in/000.obj", "in/001.obj"})
+    test::writeText(dir.file(frame),
+                    "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 0.5 0.5\nvt 1 0\nvt 0.25 0.75\n"
+                    "f 1/1 2/3 3/4\n");
+  const test::CommandResult enc =
+      test::run(dir, kBin + "/3dvo-enc", {"--InputMeshPattern=in/%03d.obj", "-o", "x.3dvo"});
+  ASSERT_EQ(enc.exitCode, 0) << enc.err;
+  EXPECT_NE(enc.err.find("in/000.obj: 1 texture coordinate that no face corner refers to: left "
+                         "out"),
+            std::string::npos)
+      << enc.err;
+  ASSERT_EQ(test::run(dir, kBin + "/3dvo-dec", {"-i", "x.3dvo", "-o", "out"}).exitCode, 0);
+  const Mesh decoded = readMesh(dir.file("out/0000.obj"));
+  const MeshAttributes& a = decoded.attributes;
+  ASSERT_EQ(a.uvs.size(), 3u);
+  ASSERT_EQ(a.uvTriangles.size(), 1u);
+  ASSERT_EQ(decoded.triangles.size(), 1u);
+  const std::map<uint32_t, std::array<float, 2>> expected = {
+      {0, {0.0f, 0.0f}}, {1, {1.0f, 0.0f}}, {2, {0.25f, 0.75f}}};
+  for (int k = 0; k < 3; ++k)
+    EXPECT_EQ(a.uvs[a.uvTriangles[0][k]], expected.at(decoded.triangles[0][k])) << "corner " << k;
+}
+
 // A few frames of horse-gallop (shared data) given texture coordinates and normals: OBJ ->
 // 3DVO -> glTF (per-corner texture coordinates) and PLY -> 3DVO -> PLY (per vertex).
 TEST(AttributesRoundTrip, SharedSequenceHorseGallop) {
