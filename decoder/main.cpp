@@ -366,12 +366,21 @@ int main(int argc, char** argv) {
           report(geometryHashLine(inputNumber(frame), mesh));
           if (!outputDir.empty() && (writeMeshes || !animationFile.empty())) {
             const Mesh decoded = decoder.grid().dequantise(mesh);
-            if (writeMeshes)
-              outputs->write(outputDir + "/" + framePath(meshPattern, outputNumber(frame)),
-                             formatMeshFile(decoded, meshFormat));
-            if (!animationFile.empty()) {
-              if (!animation) animation.emplace(decoder.sequenceHeader().sh_frame_rate);
-              animation->add(decoded);
+            // A format's limit (e.g. glTF's float positions) is named with the frame and file.
+            std::string file;
+            try {
+              if (writeMeshes) {
+                file = framePath(meshPattern, outputNumber(frame));
+                outputs->write(outputDir + "/" + file, formatMeshFile(decoded, meshFormat));
+              }
+              if (!animationFile.empty()) {
+                file = animationFile;
+                if (!animation) animation.emplace(decoder.sequenceHeader().sh_frame_rate);
+                animation->add(decoded);
+              }
+            } catch (const Error& e) {
+              throw Error("frame " + std::to_string(inputNumber(frame)) + " (" + file +
+                          "): " + e.what());
             }
           }
           vertexFrames += mesh.positions.size();

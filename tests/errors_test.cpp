@@ -1516,6 +1516,15 @@ CATALOGUE_TEST(D16) {
             {"-i", "x.3dvo", "-o", "out", "--MeshFormat=glb", "--AnimationFile=0000.glb"});
 }
 
+CATALOGUE_TEST(D17) {
+  std::filesystem::create_directories(dir_.path() / "in");
+  test::writeText(dir_.file("in/000.obj"), "v 0 0 0\nv 1e100 0 0\nv 0 1e100 0\nf 1 2 3\n");
+  ASSERT_EQ(test::run(dir_, kBin + "/3dvo-enc", {"--InputMeshPattern=in/%03d.obj", "-o", "x.3dvo"})
+                .exitCode,
+            0);
+  expectRow("D17", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--MeshFormat=gltf"});
+}
+
 // ---- PLY and glTF input (3dvo-enc) ----
 
 // Frame 0 of the usual sphere, as a file `name` in in/, and the encoder's arguments for it.

@@ -17,6 +17,7 @@
 #include "common/core/error.h"
 #include "common/core/file_io.h"
 #include "common/core/mesh_attributes.h"
+#include "common/core/number_text.h"
 #include "common/core/tiny_gltf_config.h"
 #include "common/core/warnings.h"
 
@@ -834,12 +835,24 @@ std::string serialise(tinygltf::Model& model, bool binary) {
   return out.str();
 }
 
+// glTF positions are float32: a coordinate beyond its range (about 3.4e38, which OBJ and PLY
+// hold) cannot be written, and is an error rather than an infinity in the file.
+float checkedFloat(double value, size_t vertex) {
+  const float f = static_cast<float>(value);
+  if (!std::isfinite(f))
+    throw Error("glTF: vertex " + std::to_string(vertex) + " has a coordinate (" +
+                formatDouble(value) +
+                ") beyond the range of the float32 that glTF positions are; write OBJ or PLY "
+                "(--MeshFormat=obj or ply)");
+  return f;
+}
+
 std::vector<float> toFloats(const Mesh& mesh) {
   std::vector<float> xyz;
   xyz.reserve(mesh.positions.size() * 3);
-  for (const Vec3d& p : mesh.positions)
-    for (double c : p)
-      xyz.push_back(static_cast<float>(c));
+  for (size_t v = 0; v < mesh.positions.size(); ++v)
+    for (double c : mesh.positions[v])
+      xyz.push_back(checkedFloat(c, v));
   return xyz;
 }
 
@@ -919,8 +932,9 @@ std::string GltfAnimationWriter::finish() {
     // frame j's, when they differ).
     std::vector<float> delta(run.vertices * 3);
     for (size_t j = 1; j < n; ++j) {
-      for (size_t i = 0; i < delta.size(); ++i)
-        delta[i] = run.positions[j * delta.size() + i] - run.positions[i];
+      for (size_t i = 0; i < delta.size(); ++i)  // (float positions; the difference may not be)
+        delta[i] =
+            checkedFloat(double(run.positions[j * delta.size() + i]) - run.positions[i], i / 3);
       std::map<std::string, int> target{
           {"POSITION", addPositions(model, delta.data(), run.vertices)}};
       if (!run.normals.empty()) {
