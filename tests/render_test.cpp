@@ -797,6 +797,17 @@ TEST_F(SynthRig, AppRendersOrbitsLeaveOneOutAndReportsBadInput) {
       << r.err;
   r = test::run(dir, app, {"-i", input, "--Sharpness=-1"});
   EXPECT_EQ(r.exitCode, 1);
+  // A camera named twice would be held out and rendered from itself (PSNR infinite).
+  r = test::run(dir, app, {"-i", input, "--Mode=leave-one-out", "--Cameras=cam00,cam00,cam01"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("Cameras: 'cam00' is named twice"), std::string::npos) << r.err;
+  r = test::run(
+      dir, app,
+      {"-i", input, "-o", "x", "--Path=camera", "--Camera=cam03", "--Cameras=cam00,cam01"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("Camera: 'cam03' is not among the cameras selected (Cameras, CameraStep)"),
+            std::string::npos)
+      << r.err;
   // A pose file's camera may not be larger than --Width and --Height may: a few bytes of JSON
   // would make the renderer allocate gigabytes.
   std::string poses = test::readText(folder_->file("rig/dataset.json"));

@@ -5,12 +5,14 @@
 //   3dvo-render -i DATA -o out/ --Mp4=orbit.mp4          ... and an MP4
 //   3dvo-render -i DATA -o out/ --Path=camera --Camera=cam03     every frame from cam03's pose
 //   3dvo-render -i DATA --Mode=leave-one-out             PSNR table on stdout
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "common/core/app.h"
@@ -179,8 +181,13 @@ Dataset selectCameras(Dataset d, const std::string& names, int step) {
     std::vector<DatasetCamera> chosen;
     std::stringstream list(names);
     std::string name;
-    while (std::getline(list, name, ','))
-      if (!name.empty()) chosen.push_back(d.cameras[d.cameraIndex(name)]);
+    std::set<std::string> named;
+    while (std::getline(list, name, ',')) {
+      if (name.empty()) continue;
+      // Twice the same camera would hold it out and render it from itself (leave-one-out).
+      check(named.insert(name).second, "Cameras: '" + name + "' is named twice");
+      chosen.push_back(d.cameras[d.cameraIndex(name)]);
+    }
     d.cameras = chosen;
   }
   std::vector<DatasetCamera> kept;
@@ -241,7 +248,13 @@ void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames
   const Camera intrinsics = virtualIntrinsics(d, p.width, p.height, p.fieldOfView);
   if (p.path == PathKind::camera) {
     check(!p.camera.empty(), "Path=camera needs --Camera=NAME");
-    const Camera c = d.cameras[d.cameraIndex(p.camera)].camera;
+    const auto chosen = std::find_if(d.cameras.begin(), d.cameras.end(),
+                                     [&](const auto& c) { return c.camera.name == p.camera; });
+    check(chosen != d.cameras.end(), "Camera: '" + p.camera + "' is not among the cameras " +
+                                         (p.cameras.empty() && p.cameraStep == 1
+                                              ? std::string("of the dataset")
+                                              : std::string("selected (Cameras, CameraStep)")));
+    const Camera c = chosen->camera;
     for (int f : frames) {
       views.push_back(c);
       viewFrames.push_back(f);
