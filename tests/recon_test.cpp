@@ -651,6 +651,24 @@ void writeVaryingSequence(const test::TempDir& dir, int frames) {
 
 }  // namespace
 
+// A frame whose fit error overflows (coordinates near 1e300: the distances are infinite) is a
+// rejected fit, a new GOM (I*), not a tracked frame: inf <= TrackMaxError * inf accepted it,
+// and the report's mean fit error was NaN.
+TEST(ReconApp, AFitWithAnInfiniteErrorIsRejected) {
+  test::TempDir dir("recon-inf");
+  writeVaryingSequence(dir, 3);
+  test::writeText(dir.file("in/" + framePath("%04d.obj", 1)),
+                  "v 0 0 0\nv 1e300 0 0\nv 0 1e300 0\nf 1 2 3\n");
+  const test::CommandResult recon = test::run(
+      dir, app("3dvo-recon"), {"--InputMeshPattern=in/%04d.obj", "--FrameCount=3", "-o", "out"});
+  ASSERT_EQ(recon.exitCode, 0) << recon.err;
+  const std::vector<std::string> rows = test::lines(test::readText(dir.file("out/frames.csv")));
+  ASSERT_GE(rows.size(), 3u);
+  EXPECT_EQ(rows[2].rfind("1,1,1,I*,", 0), 0u) << rows[2];
+  const std::string report = test::readText(dir.file("out/report.txt"));
+  EXPECT_EQ(report.find("nan"), std::string::npos) << report;
+}
+
 TEST(ReconApp, TrackedGomsEncodeAndDecodeBitExactly) {
   test::TempDir dir("recon-app");
   writeVaryingSequence(dir, 8);

@@ -1,6 +1,7 @@
 #include "tools/recon/gom_builder.h"
 
 #include <chrono>
+#include <cmath>
 
 #include "tools/eval/metrics.h"
 #include "tools/recon/surface_processing.h"
@@ -38,8 +39,10 @@ GomStep GomBuilder::add(const Mesh& surface, double voxelSize) {
     step.trackingSeconds = step.fit.seconds;
     step.mesh = tracker_->current();
     measure(surface, step);
+    // (A fit whose error overflowed, e.g. on coordinates near 1e300, is no fit.)
     if (params_.gomMode == GomMode::fixed ||
-        step.fitHausdorff <= params_.trackMaxError * step.diagonal) {
+        (std::isfinite(step.fitHausdorff) &&
+         step.fitHausdorff <= params_.trackMaxError * step.diagonal)) {
       step.gom = static_cast<int>(goms_.size()) - 1;
       ++goms_.back().second;
       return step;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdarg>
 #include <filesystem>
 #include <memory>
@@ -122,7 +123,8 @@ std::string reportText(const ReconParams& params, const ReconResult& result,
     iou.add(r.iouMean);
     iouMin.add(r.iouMin);
     volume.add(r.hullVolume);
-    if (r.diagonal > 0) fitRel.add(r.fitHausdorff / r.diagonal);
+    if (r.diagonal > 0 && std::isfinite(r.diagonal) && std::isfinite(r.fitHausdorff))
+      fitRel.add(r.fitHausdorff / r.diagonal);
     fitMean.add(r.fitMean);
     truthMean.add(r.truthMean);
     truthH.add(r.truthHausdorff);
