@@ -615,6 +615,26 @@ TEST(MetricsApp, NoFramesToCompareNamesTheMissingSide) {
   EXPECT_FALSE(std::filesystem::exists(fx.dir.file("m.csv")));
 }
 
+// Coordinates beyond 1e150 in magnitude would overflow the squared distances (infinite D_A, NaN
+// KG error): an error naming the file and vertex. Up to there the figures are finite.
+TEST(MetricsApp, CoordinatesWhereDistancesOverflowAreAnError) {
+  test::TempDir dir("metrics-huge");
+  for (const char* x : {"1e100", "2e100", "1e200", "2e200"})
+    test::writeText(dir.file(std::string(x) + ".obj"),
+                    std::string("v ") + x + " 0 0\nv 0 0 0\nv 0 1 0\nf 1 2 3\n");
+  test::CommandResult r = test::run(dir, kApp, {"-r", "1e100.obj", "-t", "2e100.obj"});
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("Hausdorff max         : 1e+100"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("inf"), std::string::npos) << r.out;
+  r = test::run(dir, kApp, {"-r", "1e100.obj", "-t", "2e200.obj", "--CsvFile=m.csv"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("2e200.obj: vertex 1 has a coordinate (2e+200) beyond 1e150 in magnitude"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.file("m.csv")));
+}
+
 // --CsvFile naming an input (a compared mesh, the GroupStarts file, a cfg file; under another
 // name or a link) is refused before anything is written, and the input is left as it was: the
 // CSV table replaced the reference mesh.

@@ -5,6 +5,7 @@
 // decoded one (texture_metrics.h). Formulas and conventions: docs/metrics.md.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -18,6 +19,7 @@
 #include "common/core/file_io.h"
 #include "common/core/gom_list.h"
 #include "common/core/mesh_io.h"
+#include "common/core/number_text.h"
 #include "common/core/obj_io.h"
 #include "common/core/progress.h"
 #include "common/core/sequence.h"
@@ -124,6 +126,18 @@ std::string csvCell(const std::optional<double>& value) {
 
 std::string textCell(const std::optional<double>& value) {
   return value ? format(*value, 6) : std::string("n/a");
+}
+
+// Squared distances overflow double precision beyond about 1e154: coordinates beyond 1e150 in
+// magnitude (which the mesh readers take) would give infinite or NaN figures, so they are an
+// error here.
+void checkMeasurable(const Mesh& mesh, const std::string& path) {
+  constexpr double kMaxCoordinate = 1e150;
+  for (size_t v = 0; v < mesh.positions.size(); ++v)
+    for (const double c : mesh.positions[v])
+      check(std::fabs(c) <= kMaxCoordinate,
+            path + ": vertex " + std::to_string(v + 1) + " has a coordinate (" + formatDouble(c) +
+                ") beyond 1e150 in magnitude, where distances overflow double precision");
 }
 
 }  // namespace
@@ -252,6 +266,8 @@ int main(int argc, char** argv) {
       for (size_t k = 0; k < frames; ++k) {
         const Mesh reference = readMesh(referencePaths[k]);
         const Mesh test = readMesh(testPaths[k]);
+        checkMeasurable(reference, referencePaths[k]);
+        checkMeasurable(test, testPaths[k]);
         FrameResult& r = results[k];
         r.referenceFrame = referenceFrames[k];
         r.testFrame = testFrames[k];
