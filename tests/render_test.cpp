@@ -797,6 +797,27 @@ TEST_F(SynthRig, AppRendersOrbitsLeaveOneOutAndReportsBadInput) {
       << r.err;
   r = test::run(dir, app, {"-i", input, "--Sharpness=-1"});
   EXPECT_EQ(r.exitCode, 1);
+  // A key of the other mode is an error, not ignored.
+  r = test::run(dir, app, {"-i", input, "--Mode=leave-one-out", "--Mp4=x.mp4"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("Mp4 is for Mode=render"), std::string::npos) << r.err;
+  r = test::run(dir, app, {"-i", input, "-o", "x", "--Csv=x.csv"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("Csv is for Mode=leave-one-out"), std::string::npos) << r.err;
+  // An MP4 at a rate it cannot be written at is refused before anything is rendered.
+  std::string fast = test::readText(folder_->file("rig/dataset.json"));
+  const size_t rate = fast.find("\"rate\": ");
+  ASSERT_NE(rate, std::string::npos);
+  fast.replace(rate, fast.find_first_of(",}", rate) - rate, "\"rate\": 1e6");
+  fs::copy(folder_->file("rig"), dir.file("fast"), fs::copy_options::recursive);
+  test::writeText(dir.file("fast/dataset.json"), fast);
+  r = test::run(dir, app, {"-i", "fast", "-o", "x", "--Mp4=x.mp4"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("x.mp4: the frame rate 1e+06 (the dataset's frames.rate) is outside what "
+                       "an MP4 is written at"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir.file("x.mp4")));
   // A camera named twice would be held out and rendered from itself (PSNR infinite).
   r = test::run(dir, app, {"-i", input, "--Mode=leave-one-out", "--Cameras=cam00,cam00,cam01"});
   EXPECT_EQ(r.exitCode, 1);

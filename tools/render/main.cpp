@@ -343,11 +343,19 @@ int main(int argc, char** argv) {
     inputFiles.push_back(p.poses);
 
     if (p.mode == Mode::render) {
+      // Keys of the other mode are an error, not silently ignored.
+      check(p.csv.empty(), "Csv is for Mode=leave-one-out (Mode=render writes views, and Mp4)");
+      check(!p.saveRenders, "SaveRenders is for Mode=leave-one-out");
+      check(p.reference.empty(), "Reference is for Mode=leave-one-out");
       checkNotAnInput(p.mp4, {&full}, inputFiles);
+      if (!p.mp4.empty()) checkMp4FrameRate(d.frameRate, p.mp4);  // before any view is rendered
       inputFiles.push_back(p.input);
       runRender(p, d, frames, protectedPaths({&full}, inputFiles));
     } else {
       check(d.cameras.size() >= 2, "leave-one-out needs at least two cameras");
+      check(p.mp4.empty(),
+            "Mp4 is for Mode=render (leave-one-out writes its renders with "
+            "SaveRenders)");
       check(!p.saveRenders || !p.output.empty(), "SaveRenders needs an output folder (-o DIR)");
       std::optional<Dataset> reference;
       if (!p.reference.empty()) reference = readDataset(p.reference);

@@ -13,6 +13,7 @@ extern "C" {
 
 #include "common/core/error.h"
 #include "common/core/file_io.h"
+#include "common/core/number_text.h"
 #include "common/media/ffmpeg_log.h"
 #include "common/media/yuv.h"
 
@@ -70,6 +71,13 @@ struct Mp4Writer::State {
   }
 };
 
+void checkMp4FrameRate(double frameRate, const std::string& path) {
+  check(std::isfinite(frameRate) && frameRate >= 0.001 && frameRate <= 1000,
+        path + ": the frame rate " + formatDouble(frameRate) +
+            " (the dataset's frames.rate) is outside what an MP4 is written at, 0.001 to 1000 "
+            "frames per second");
+}
+
 Mp4Writer::Mp4Writer(const std::string& path, int width, int height, double frameRate, int crf)
     : state_(std::make_unique<State>()) {
   State& s = *state_;
@@ -77,7 +85,7 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, double fram
   s.width = width, s.height = height;
   s.codedWidth = width + (width & 1), s.codedHeight = height + (height & 1);
   check(width > 0 && height > 0, path + ": empty frame size");
-  check(frameRate > 0 && std::isfinite(frameRate), path + ": the frame rate must be positive");
+  checkMp4FrameRate(frameRate, path);
   check(crf >= 0 && crf <= 51, path + ": the CRF must be in 0..51");
   s.partial = s.staged.stage(path);
   // x264 reports its settings and statistics at the info level, and errors come through

@@ -14,6 +14,10 @@
 
 namespace tdvo {
 
+// The frame rates an MP4 is written at: 0.001 to 1000 frames per second (the rate becomes a
+// fraction with a denominator of at most 100000). Throws Error naming `path` otherwise.
+void checkMp4FrameRate(double frameRate, const std::string& path);
+
 class Mp4Writer {
  public:
   // `crf`: x264's constant rate factor (0 lossless … 51; 18 looks transparent).
