@@ -194,6 +194,8 @@ TEST(Dataset, StructuralErrorsNameTheField) {
               "cameras[0].width: must be an integer");
   expectError(replaced(kMinimal, "{\"count\": 1}", "{\"count\": 0}"),
               "frames.count: 0 out of range");
+  expectError(replaced(kMinimal, "{\"count\": 1}", "{\"count\": 9223372036854775808}"),
+              "frames.count: 9223372036854775808 out of range");  // not as a negative number
   const std::string two = replaced(kMinimal, "\"images\": \"a.png\"}",
                                    "\"images\": \"a.png\"}, {\"name\": \"a\", \"width\": 4, "
                                    "\"height\": 3, \"fx\": 1, \"fy\": 1, \"cx\": 1, \"cy\": 1, "

@@ -1,5 +1,6 @@
 #include "common/media/dataset.h"
 
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -52,9 +53,12 @@ class ObjectReader {
   int integer(const char* key, int min, int max) {
     const Json& v = get(key);
     check(v.is_number_integer(), field(key) + ": must be an integer");
-    const int64_t i = v.get<int64_t>();
-    check(i >= min && i <= max, field(key) + ": " + std::to_string(i) + " out of range [" +
-                                    std::to_string(min) + ", " + std::to_string(max) + "]");
+    // An unsigned JSON integer beyond int64 (2^63 and up) is out of range as it is written.
+    const bool huge = v.is_number_unsigned() && v.get<uint64_t>() > uint64_t(INT64_MAX);
+    const int64_t i = huge ? INT64_MAX : v.get<int64_t>();
+    check(i >= min && i <= max, field(key) + ": " + (huge ? v.dump() : std::to_string(i)) +
+                                    " out of range [" + std::to_string(min) + ", " +
+                                    std::to_string(max) + "]");
     return static_cast<int>(i);
   }
   int integer(const char* key, int min, int max, int fallback) {
