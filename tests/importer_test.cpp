@@ -241,6 +241,19 @@ std::vector<Camera> camerasOf(const Dataset& d) {
 
 // A calibration file starting with a UTF-8 byte-order mark reads as without it (it was "'16' is
 // not a number", the mark invisible).
+// The world's up (--Up of 3dvo-import and 3dvo-synth) is a direction: the zero vector is
+// refused as such (3dvo-synth said "up direction is parallel to the view direction").
+TEST(Importer, UpIsADirection) {
+  EXPECT_EQ(parseDirection("0,0,-2", "Up"), (Vec3d{0, 0, -2}));
+  try {
+    parseDirection("0,0,0", "Up");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "Up: '0,0,0' is the zero vector, which has no direction");
+  }
+  EXPECT_THROW(parseDirection("0,0", "Up"), Error);
+}
+
 TEST(Importer, MiddleburyParFileWithByteOrderMark) {
   TempFolder dir("mb-bom");
   writePng(dir / "v1.png", Image(40, 30, 3));

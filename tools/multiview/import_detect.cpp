@@ -85,6 +85,13 @@ Vec3d parseVector3(const std::string& text, const std::string& what) {
   return v;
 }
 
+Vec3d parseDirection(const std::string& text, const std::string& what) {
+  const Vec3d v = parseVector3(text, what);
+  check(v[0] != 0 || v[1] != 0 || v[2] != 0,
+        what + ": '" + text + "' is the zero vector, which has no direction");
+  return v;
+}
+
 ImportFormat detectImportFormat(const std::string& input) {
   std::error_code ec;
   const fs::path path(input);
@@ -131,7 +138,7 @@ Dataset importAny(const std::string& input, const ImportOptions& options) {
       d = importOpenCv(input, options);
       break;
   }
-  if (!options.up.empty()) d.up = parseVector3(options.up, "Up");
+  if (!options.up.empty()) d.up = parseDirection(options.up, "Up");
   return d;
 }
 

@@ -53,5 +53,7 @@ Dataset importAny(const std::string& input, const ImportOptions& options);
 
 // Parses "x,y,z" (used for the up direction); `what` names the option in errors.
 Vec3d parseVector3(const std::string& text, const std::string& what);
+// The same for a direction (the world's up): also refuses the zero vector, naming `what`.
+Vec3d parseDirection(const std::string& text, const std::string& what);
 
 }  // namespace tdvo

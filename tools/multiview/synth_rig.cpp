@@ -202,7 +202,7 @@ uint8_t toByte(double v) {
 }  // namespace
 
 std::vector<Camera> makeRigCameras(const SynthParams& p, const Vec3d& centre, double radius) {
-  const Vec3d up = normalized(parseVector3(p.up, "Up"));
+  const Vec3d up = normalized(parseDirection(p.up, "Up"));
   Vec3d a, b;
   basisAround(up, a, b);
   const double f = focalPixels(p);
@@ -243,7 +243,7 @@ Dataset writeSyntheticDataset(const SynthParams& p) {
   check(!p.output.empty(), "no output folder given (-o DIR)");
   const Content content = loadContent(p);
   const std::vector<Camera> cameras = makeRigCameras(p, content.centre, content.radius);
-  const Vec3d up = normalized(parseVector3(p.up, "Up"));
+  const Vec3d up = normalized(parseDirection(p.up, "Up"));
   Vec3d a, b;
   basisAround(up, a, b);
   const Vec3d light = normalized(up + 0.6 * a + 0.3 * b);
