@@ -28,26 +28,52 @@ uint64_t edgeKey(uint32_t a, uint32_t b) {
 
 constexpr uint32_t kUnmapped = UINT32_MAX;
 
-// Directed edge a->b of a triangle of `mesh` -> its third vertex.
-std::unordered_map<uint64_t, uint32_t> thirdVertices(const IntMesh& mesh) {
-  std::unordered_map<uint64_t, uint32_t> third;
+// Directed edge a->b of a triangle of `mesh` -> its third vertices, one per such triangle in
+// the mesh's order (several where a non-manifold edge is used twice in the same direction).
+using ThirdVertices = std::unordered_map<uint64_t, std::vector<uint32_t>>;
+ThirdVertices thirdVertices(const IntMesh& mesh) {
+  ThirdVertices third;
   third.reserve(mesh.triangles.size() * 3);
   for (const Triangle& t : mesh.triangles)
     for (int k = 0; k < 3; ++k)
-      third.emplace(edgeKey(t[k], t[(k + 1) % 3]), t[(k + 2) % 3]);
+      third[edgeKey(t[k], t[(k + 1) % 3])].push_back(t[(k + 2) % 3]);
   return third;
 }
 
+// `t` rotated to start at its smallest index (orientation kept).
+Triangle canonical(Triangle t) {
+  while (t[0] > t[1] || t[0] > t[2])
+    t = Triangle{t[1], t[2], t[0]};
+  return t;
+}
+
 // Decoded triangles that `map` (decoded vertex -> input vertex) does not take to an input
-// triangle.
-size_t countUnmatched(const std::unordered_map<uint64_t, uint32_t>& thirdVertex,
-                      const IntMesh& decoded, const std::vector<uint32_t>& map) {
-  size_t unmatched = 0;
-  for (const Triangle& t : decoded.triangles) {
-    auto it = thirdVertex.find(edgeKey(map[t[0]], map[t[1]]));
-    if (it == thirdVertex.end() || it->second != map[t[2]]) ++unmatched;
+// triangle of their own: each input triangle (same vertices, same orientation, any rotation) is
+// the twin of at most one decoded triangle, so that two decoded triangles cannot both pass as
+// one input triangle (which would hide a merged vertex).
+size_t countUnmatched(const IntMesh& input, const IntMesh& decoded,
+                      const std::vector<uint32_t>& map) {
+  std::vector<Triangle> in(input.triangles.size()), out(decoded.triangles.size());
+  for (size_t i = 0; i < in.size(); ++i)
+    in[i] = canonical(input.triangles[i]);
+  for (size_t i = 0; i < out.size(); ++i) {
+    const Triangle& t = decoded.triangles[i];
+    out[i] = canonical({map[t[0]], map[t[1]], map[t[2]]});
   }
-  return unmatched;
+  std::sort(in.begin(), in.end());
+  std::sort(out.begin(), out.end());
+  // Decoded triangles minus the input's (as multisets).
+  size_t matched = 0;
+  for (size_t a = 0, b = 0; a < in.size() && b < out.size();) {
+    if (in[a] < out[b]) {
+      ++a;
+    } else if (out[b] < in[a]) {
+      ++b;
+    } else {
+      ++matched, ++a, ++b;
+    }
+  }
+  return out.size() - matched;
 }
 
 // The Draco mesh of `mesh`, each point its own position value.
@@ -109,7 +135,7 @@ std::vector<uint32_t> exactVertexOrder(const std::vector<uint8_t>& payload,
     index[j] = mesh.triangles[corner / 3][corner % 3];
     if (mesh.positions[index[j]] != decoded.positions[j]) return {};
   }
-  if (countUnmatched(thirdVertices(mesh), decoded, index) != 0) return {};
+  if (countUnmatched(mesh, decoded, index) != 0) return {};
   return index;
 }
 
@@ -131,7 +157,7 @@ std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& de
   }
 
   // Directed edge a->b of an input triangle -> its third vertex.
-  const std::unordered_map<uint64_t, uint32_t> thirdVertex = thirdVertices(input);
+  const ThirdVertices thirdVertex = thirdVertices(input);
 
   std::vector<bool> used(input.positions.size(), false);
   for (uint32_t m : map)
@@ -158,9 +184,18 @@ std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& de
           const uint32_t x = t[k], y = t[(k + 1) % 3], z = t[(k + 2) % 3];
           if (map[z] != kUnmapped || map[x] == kUnmapped || map[y] == kUnmapped) continue;
           auto it = thirdVertex.find(edgeKey(map[x], map[y]));
-          if (it == thirdVertex.end() || input.positions[it->second] != decoded.positions[z])
-            continue;
-          map[z] = it->second;
+          if (it == thirdVertex.end()) continue;
+          // The third vertex at z's position; none if there are several such (a non-manifold
+          // edge whose triangles have coincident third vertices): step 3 then decides.
+          uint32_t third = kUnmapped;
+          bool ambiguous = false;
+          for (uint32_t c : it->second)
+            if (input.positions[c] == decoded.positions[z] && c != third) {
+              ambiguous = ambiguous || third != kUnmapped;
+              third = c;
+            }
+          if (third == kUnmapped || ambiguous) continue;
+          map[z] = third;
           used[map[z]] = true;
           queue.push_back(z);
           if (mapped) mapped->push_back(z);
@@ -237,7 +272,7 @@ std::vector<uint32_t> recoverVertexOrder(const IntMesh& input, const IntMesh& de
     settle(next, best(next, bestScore));
   }
 
-  if (unmatchedTriangles) *unmatchedTriangles = countUnmatched(thirdVertex, decoded, map);
+  if (unmatchedTriangles) *unmatchedTriangles = countUnmatched(input, decoded, map);
   return map;
 }
 
@@ -260,11 +295,6 @@ MeshOrder inputOrder(const IntMesh& input, const IntMesh& decoded,
   }
   // Decoded triangles by their output vertices, rotated to start at the smallest index (the
   // orientation is kept); each list is used from its front.
-  auto canonical = [](Triangle t) {
-    while (t[0] > t[1] || t[0] > t[2])
-      t = Triangle{t[1], t[2], t[0]};
-    return t;
-  };
   struct TriangleHash {
     size_t operator()(const Triangle& t) const {
       return std::hash<uint64_t>()((uint64_t(t[0]) * 0x9E3779B97F4A7C15ull) ^

@@ -5,13 +5,16 @@
 // works out, for every decoded vertex, which input vertex it came from. Draco's Edgebreaker
 // encoder is run directly, so that its record of the input corner each position value was
 // coded from gives that mapping exactly, even where vertices coincide (seams, doubled
-// surfaces); it is checked against the decoded positions and triangles. Should that check ever
+// surfaces); it is checked against the decoded positions and triangles (each decoded triangle
+// must be an input triangle of its own, non-manifold edges included). Should that check ever
 // fail, a matcher takes over (and the encoder warns if it leaves decoded triangles without an
 // input twin):
 //   1. a decoded vertex whose integer position occurs once in the input maps to that vertex;
 //   2. the rest are resolved through connectivity: for a decoded triangle (x, y, z) with x and y
 //      already mapped to input vertices a and b, z maps to the third vertex of the input triangle
-//      that has the directed edge a->b, provided that vertex has z's position;
+//      that has the directed edge a->b, provided that vertex has z's position (and is the only
+//      one: a directed edge of several input triangles, a non-manifold edge, whose third
+//      vertices coincide leaves z to step 3);
 //   3. anything still open (identical positions in identical surroundings) takes any unused
 //      input vertex at the same position: such vertices cannot be told apart by position and
 //      connectivity, so any choice is consistent for the I mesh. Step 2 resumes from each such

@@ -186,6 +186,49 @@ TEST(DuplicatePositions, DracoRoundTripOfTheSeam) {
   EXPECT_EQ(decodedAsInput(coded.decoded, coded.inputIndex), canonicalSorted(input.triangles));
 }
 
+// An edge used by three triangles, two of them in the same direction (0->1), and a triangle
+// over the same positions as one of them built from a copy (4) of vertex 1: the directed edge
+// 2->0 has two third vertices at one position (1 and 4). Both the exact mapping's check and the
+// matcher once kept one third vertex per directed edge: the check rejected the exact mapping
+// and the matcher merged 4 into 1 (4 output vertices, triangle {0, 4, 2} output as {0, 1, 2}).
+TEST(DuplicatePositions, NonManifoldEdgeWithCoincidentThirdVertices) {
+  IntMesh input;
+  input.positions = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {0, 0, 10}, {10, 0, 0}};
+  input.triangles = {{0, 1, 2}, {0, 1, 3}, {1, 0, 2}, {0, 4, 2}};
+  for (int speed : {0, 5, 10})
+    for (bool triangleOrder : {true, false}) {
+      SCOPED_TRACE("Draco speed " + std::to_string(speed) +
+                   (triangleOrder ? ", triangle order" : ", coding order"));
+      const IMeshEncoding coded = encodeIMesh(input, 12, speed, triangleOrder);
+      EXPECT_EQ(coded.unmatchedTriangles, 0u);
+      EXPECT_EQ(decodedAsInput(coded.decoded, coded.inputIndex), canonicalSorted(input.triangles));
+      EXPECT_EQ(coded.order.numVertices, 5u);
+      if (triangleOrder) {
+        EXPECT_EQ(coded.order.triangles, input.triangles);
+      }
+      size_t unmatched = 99;
+      EXPECT_EQ(decodedAsInput(coded.decoded, recoverVertexOrder(input, coded.decoded, &unmatched)),
+                canonicalSorted(input.triangles));
+      EXPECT_EQ(unmatched, 0u);
+    }
+}
+
+// A fin: three triangles on one edge in the same direction, their third vertices at one
+// position. Each decoded triangle must be an input triangle of its own: the check once let all
+// three pass as the first one (3 output vertices, the same triangle three times, no warning).
+TEST(DuplicatePositions, FinOfThreeTrianglesWithCoincidentThirdVertices) {
+  IntMesh input;
+  input.positions = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {0, 10, 0}, {0, 10, 0}};
+  input.triangles = {{0, 1, 2}, {0, 1, 3}, {0, 1, 4}};
+  for (int speed : {0, 10}) {
+    SCOPED_TRACE("Draco speed " + std::to_string(speed));
+    const IMeshEncoding coded = encodeIMesh(input, 12, speed, true);
+    EXPECT_EQ(coded.unmatchedTriangles, 0u);
+    EXPECT_EQ(coded.order.numVertices, 5u);
+    EXPECT_EQ(coded.order.triangles, input.triangles);
+  }
+}
+
 // Two copies of a sheet at the same place, triangulated with opposite diagonals (as in frame 17
 // of tvmc-varying): every vertex has a twin at its position in the same surroundings of
 // positions, so position and connectivity cannot tell the copies apart (the matcher,
