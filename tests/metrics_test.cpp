@@ -332,6 +332,23 @@ TEST(Sted, NeighbourhoodWidthReachesAlongEdges) {
   EXPECT_NEAR(sted(c.reference, c.test, c.params).spatial(), std::sqrt(0.24) / 2, 1e-12);
 }
 
+// The neighbourhoods, kept for every frame, are bounded: beyond maxNeighbourhoodEdges in all (a
+// wide w on a large mesh needs up to the square of its size) an Error, not gigabytes.
+TEST(Sted, NeighbourhoodsAreBounded) {
+  StedCase c;
+  c.params.width = 2.5 / std::sqrt(3.0);  // every vertex sees all five edges: 20 in all
+  c.params.maxNeighbourhoodEdges = 20;
+  EXPECT_NEAR(sted(c.reference, c.test, c.params).spatial(), std::sqrt(0.24) / 2, 1e-12);
+  c.params.maxNeighbourhoodEdges = 19;
+  try {
+    sted(c.reference, c.test, c.params);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("hold more than 19 edges in all"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Sted, OneFrameHasNoTemporalPart) {
   const StedCase c;
   const StedAccumulator s = sted({c.reference[0]}, {c.test[0]}, c.params);

@@ -1,5 +1,7 @@
 #include "tools/eval/metrics.h"
 
+#include "common/core/number_text.h"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -428,6 +430,14 @@ void StedAccumulator::prepare(const Mesh& reference) {
         const uint32_t e = incident[k], x = other(e, u);
         if (u < x && stamp[x] == v) neighbourhoodEdges_.push_back(e);
       }
+    // The neighbourhoods are kept for every frame: memory (and the time to find them) grows
+    // with the width, up to the square of the mesh size at w = 1. Bounded, with an error that
+    // says what to change rather than gigabytes.
+    check(neighbourhoodEdges_.size() <= params_.maxNeighbourhoodEdges,
+          "STED: the neighbourhoods of width w = " + formatDouble(params_.width) +
+              " hold more than " + std::to_string(params_.maxNeighbourhoodEdges) +
+              " edges in all (at vertex " + std::to_string(v) + " of " + std::to_string(n) +
+              "); give a smaller StedWidth");
     vertices_.push_back(v);
     neighbourhoodStart_.push_back(static_cast<uint32_t>(neighbourhoodEdges_.size()));
   }

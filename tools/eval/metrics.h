@@ -142,6 +142,10 @@ struct StedParams {
   double timeStep = 0.3;
   // c: STED = sqrt(STED_s² + c²·STED_t²).
   double temporalWeight = 1.0;
+  // The neighbourhoods are kept for every frame: at most this many edges in all (256 MiB as
+  // uint32; a wide w on a large mesh needs up to the square of its size). More is an Error
+  // from the first addFrame.
+  size_t maxNeighbourhoodEdges = size_t{1} << 26;
 };
 
 // STED accumulated frame by frame (the frames need not be held in memory together).
