@@ -1,11 +1,13 @@
 #include "encoder/input_frames.h"
 
 #include <filesystem>
+#include <optional>
 
 #include "bitstream/syntax.h"
 #include "common/core/error.h"
 #include "common/core/mesh_io.h"
 #include "common/core/sequence.h"
+#include "common/core/warnings.h"
 
 namespace tdvo {
 
@@ -38,6 +40,42 @@ std::string inputMeshPath(const EncoderParams& params, const Dataset* dataset, i
   return dataset->framePath(dataset->meshes, frame - dataset->firstFrame);
 }
 
+namespace {
+
+// FrameCount unset codes every frame up to the first missing file: when files of later frames
+// exist in the pattern's folder (a gap in the numbering), that is a partial result, and it is
+// said (once, as a warning, with the first such file). The folder is listed once: the cost is
+// that of its entries.
+void warnAboutLaterFrames(const EncoderParams& params, int missing, const std::string& path) {
+  const std::string& pattern = params.inputMeshPattern;
+  if (pattern.empty() || isMeshAnimationFile(pattern)) return;
+  const size_t slash = pattern.rfind('/');
+  // Only a pattern whose frame number is in the file name (not in a folder name).
+  const std::string folder = slash == std::string::npos ? "." : pattern.substr(0, slash);
+  if (hasFrameConversion(folder)) return;
+  std::error_code ec;
+  std::optional<int> later;
+  std::string laterPath;
+  for (std::filesystem::directory_iterator it(unescapePercent(folder), ec), end; !ec && it != end;
+       it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const std::string candidate =
+        slash == std::string::npos ? name : unescapePercent(pattern.substr(0, slash + 1)) + name;
+    const std::optional<int> frame = frameOfPath(pattern, candidate);
+    if (frame && *frame > missing && (!later || *frame < *later)) {
+      later = frame;
+      laterPath = candidate;
+    }
+  }
+  if (later)
+    warn(laterPath + " exists, after " + path +
+         ", which does not exist: the frames after that gap are not coded (FrameCount not set: "
+         "every frame from FirstFrame until the first missing file); number the files without "
+         "a gap");
+}
+
+}  // namespace
+
 int resolveFrameCount(const EncoderParams& params, const Dataset* dataset, std::string* found) {
   if (params.frameCount > 0) return params.frameCount;
   if (dataset) {
@@ -66,6 +104,7 @@ int resolveFrameCount(const EncoderParams& params, const Dataset* dataset, std::
                            "from FirstFrame " +
                            std::to_string(first) + " until the first missing file)");
       why = path + ", which does not exist";
+      warnAboutLaterFrames(params, static_cast<int>(frame), path);
       break;
     }
   }

@@ -301,10 +301,22 @@ TEST_F(AppsTest, FrameCountDefaultsToEveryFrameUntilAFileIsMissing) {
   EXPECT_NE(all.out.find("in/007.obj, which does not exist"), std::string::npos) << all.out;
   EXPECT_NE(all.out.find("frames              : 5"), std::string::npos) << all.out;
   EXPECT_EQ(test::linesStartingWith(all.out, "MD5 frame=").size(), 5u);
+  EXPECT_EQ(all.err.find("warning"), std::string::npos) << all.err;  // no file after the end
   expectFailure(kEncoder,
                 {"--InputMeshPattern=in/%03d.obj", "--FirstFrame=2", "--FrameCount=6",
                  "--GridBits=11", "-o", "more.3dvo"},
                 {"in/007.obj: cannot open"});
+  // A gap in the numbering ends the frames too, and the files after it are named.
+  std::filesystem::rename(inputPath(4), dir_.file("in/010.obj"));
+  const CommandResult gap = test::run(
+      dir_, kEncoder,
+      {"--InputMeshPattern=in/%03d.obj", "--FirstFrame=2", "--GridBits=11", "-o", "gap.3dvo"});
+  ASSERT_EQ(gap.exitCode, 0) << gap.err;
+  EXPECT_NE(gap.out.find("# input frames: 2 frames, 2 .. 3"), std::string::npos) << gap.out;
+  EXPECT_NE(gap.err.find("3dvo-enc: warning: in/005.obj exists, after in/004.obj, which does not "
+                         "exist: the frames after that gap are not coded"),
+            std::string::npos)
+      << gap.err;
 }
 
 // Issue 17.8: a frame range, in input frame numbers: decoding starts at the GOM holding
