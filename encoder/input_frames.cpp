@@ -43,32 +43,12 @@ std::string inputMeshPath(const EncoderParams& params, const Dataset* dataset, i
 namespace {
 
 // FrameCount unset codes every frame up to the first missing file: when files of later frames
-// exist in the pattern's folder (a gap in the numbering), that is a partial result, and it is
-// said (once, as a warning, with the first such file). The folder is listed once: the cost is
-// that of its entries.
+// exist (a gap in the numbering), that is a partial result, and it is said.
 void warnAboutLaterFrames(const EncoderParams& params, int missing, const std::string& path) {
   const std::string& pattern = params.inputMeshPattern;
   if (pattern.empty() || isMeshAnimationFile(pattern)) return;
-  const size_t slash = pattern.rfind('/');
-  // Only a pattern whose frame number is in the file name (not in a folder name).
-  const std::string folder = slash == std::string::npos ? "." : pattern.substr(0, slash);
-  if (hasFrameConversion(folder)) return;
-  std::error_code ec;
-  std::optional<int> later;
-  std::string laterPath;
-  for (std::filesystem::directory_iterator it(unescapePercent(folder), ec), end; !ec && it != end;
-       it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    const std::string candidate =
-        slash == std::string::npos ? name : unescapePercent(pattern.substr(0, slash + 1)) + name;
-    const std::optional<int> frame = frameOfPath(pattern, candidate);
-    if (frame && *frame > missing && (!later || *frame < *later)) {
-      later = frame;
-      laterPath = candidate;
-    }
-  }
-  if (later)
-    warn(laterPath + " exists, after " + path +
+  if (const std::optional<std::string> later = firstFileAfter(pattern, missing))
+    warn(*later + " exists, after " + path +
          ", which does not exist: the frames after that gap are not coded (FrameCount not set: "
          "every frame from FirstFrame until the first missing file); number the files without "
          "a gap");

@@ -2,6 +2,7 @@
 
 #include <climits>
 #include <cstdio>
+#include <filesystem>
 
 #include "common/core/error.h"
 
@@ -79,6 +80,29 @@ std::string escapePercent(const std::string& literal) {
 
 std::string unescapePercent(const std::string& text) {
   return unescape(text);
+}
+
+std::optional<std::string> firstFileAfter(const std::string& pattern, int number) {
+  const size_t slash = pattern.rfind('/');
+  const std::string folder = slash == std::string::npos ? "." : pattern.substr(0, slash);
+  if (slash != std::string::npos && findConversion(pattern, "frame pattern").start < slash)
+    return std::nullopt;  // the number is in a folder name
+  const std::string prefix =
+      slash == std::string::npos ? "" : unescape(pattern.substr(0, slash + 1));
+  std::error_code ec;
+  std::optional<int> later;
+  std::string path;
+  for (std::filesystem::directory_iterator it(slash == 0 ? "/" : unescape(folder), ec), end;
+       !ec && it != end; it.increment(ec)) {
+    const std::string candidate = prefix + it->path().filename().string();
+    const std::optional<int> frame = frameOfPath(pattern, candidate);
+    if (frame && *frame > number && (!later || *frame < *later)) {
+      later = frame;
+      path = candidate;
+    }
+  }
+  if (!later) return std::nullopt;
+  return path;
 }
 
 std::optional<int> frameOfPath(const std::string& pattern, const std::string& path) {

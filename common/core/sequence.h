@@ -19,6 +19,11 @@ std::string escapePercent(const std::string& literal);
 // The literal path a pattern text without a conversion stands for: each "%%" one '%'.
 std::string unescapePercent(const std::string& text);
 
+// The file of the lowest frame number above `number` that exists (the first file after a gap in
+// a sequence), if any. Only a pattern whose conversion is in the file name, not in a folder name,
+// is looked at; its folder is listed once (the cost is that of its entries).
+std::optional<std::string> firstFileAfter(const std::string& pattern, int number);
+
 // The frame number whose framePath(pattern) is `path` exactly, if there is one (a path that
 // only looks alike, e.g. with other padding, is none).
 std::optional<int> frameOfPath(const std::string& pattern, const std::string& path);

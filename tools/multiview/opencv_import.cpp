@@ -5,11 +5,13 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "common/core/error.h"
 #include "common/core/file_io.h"
 #include "common/core/sequence.h"
+#include "common/core/warnings.h"
 #include "common/media/png_io.h"
 #include "common/media/video_reader.h"
 #include "common/views/image.h"
@@ -194,6 +196,11 @@ Dataset importOpenCv(const std::string& input, const ImportOptions& options) {
       while (fs::is_regular_file(framePath(pattern.string(), first + static_cast<int>(n)), ec))
         ++n;
       check(n > 0, pattern.string() + ": no images found (numbered from 0 or 1)");
+      if (const std::optional<std::string> later =
+              firstFileAfter(pattern.string(), first + static_cast<int>(n)))
+        warn(*later + " exists, after " + framePath(pattern.string(), first + static_cast<int>(n)) +
+             ", which does not exist: the images after that gap are not imported (a sequence "
+             "ends at its first missing file); number the files without a gap");
       check(frames < 0 || d.firstFrame == first, pattern.string() + ": numbering starts at " +
                                                      std::to_string(first) +
                                                      " unlike the previous cameras");
