@@ -25,7 +25,7 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message):
         self.print_usage(sys.stderr)
-        self.exit(1, "%s: error: %s\n" % (self.prog, message))
+        self.exit(1, "3dvo-rd: error: %s\n" % message)
 
 
 def _parser():
@@ -102,6 +102,10 @@ def _command_line(sweep, page):
 def main(argv=None):
     args = _parser().parse_args(argv)
     try:
+        if getattr(args, "jobs", None) is not None and args.jobs < 1:
+            raise SweepError("--jobs must be at least 1")
+        if getattr(args, "timeout", None) is not None and not args.timeout > 0:
+            raise SweepError("--timeout must be a positive number of seconds")
         sweep = Sweep(args.sweep)
         results_dir = _results_dir(args, sweep)
         sweep.use_results(results_dir)
@@ -122,7 +126,8 @@ def main(argv=None):
         # The report's imports (numpy, scipy, matplotlib) are loaded here, not at start-up:
         # --help and list need none of them, and run fails before its jobs, not after, when
         # one is missing.
-        from .report import write_outputs
+        from .report import ReportOptions, write_outputs
+        ReportOptions(sweep)  # the [report] table, checked before any job runs
         if args.command == "run":
             try:
                 tls = security.tls_options(args.tls_ca_file, args.tls_cert, args.tls_key)
@@ -167,4 +172,8 @@ def main(argv=None):
         return 0
     except SweepError as e:
         print("3dvo-rd: error: %s" % e, file=sys.stderr)
+        return 1
+    except OSError as e:  # a file or folder the run needs (e.g. --results naming a file)
+        print("3dvo-rd: error: %s%s" % (e.filename + ": " if e.filename else "",
+                                        e.strerror or e), file=sys.stderr)
         return 1

@@ -87,7 +87,8 @@ def read_result(results_dir, key):
             result = json.load(f)
     except (OSError, ValueError):
         return None
-    if result.get("format") != RESULT_FORMAT or result.get("key") != key:
+    if (not isinstance(result, dict) or result.get("format") != RESULT_FORMAT or
+            result.get("key") != key):
         return None
     return result
 

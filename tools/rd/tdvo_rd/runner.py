@@ -19,7 +19,7 @@ import traceback
 
 from . import job as job_module
 from . import security
-from .sweep import Identity, make_spec, prepare_datasets
+from .sweep import Identity, SweepError, make_spec, prepare_datasets
 
 # Task retries on Dask for exceptions raised by run_job itself (e.g. an I/O error of the shared
 # filesystem). A failing 3dvo command is not an exception (run_job returns a failure record) and
@@ -116,10 +116,14 @@ def _run_dask(pending, scheduler, on_result, tls=None, log=None):
 
     # Workers import nothing of this package: the job module travels with the task.
     cloudpickle.register_pickle_by_value(job_module)
-    if os.path.isfile(scheduler):    # a file written by `dask scheduler --scheduler-file`
-        client = Client(scheduler_file=scheduler, timeout=30, security=sec)
-    else:
-        client = Client(scheduler, timeout=30, security=sec)
+    try:
+        if os.path.isfile(scheduler):    # a file written by `dask scheduler --scheduler-file`
+            client = Client(scheduler_file=scheduler, timeout=30, security=sec)
+        else:
+            client = Client(scheduler, timeout=30, security=sec)
+    except (OSError, ValueError, TypeError, KeyError) as e:  # unreachable, malformed, not a file
+        raise SweepError("--scheduler %s: cannot reach a Dask scheduler (%s: %s)"
+                         % (scheduler, type(e).__name__, e)) from None
     futures = {}
     try:
         for spec in pending:

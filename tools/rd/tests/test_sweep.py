@@ -120,6 +120,16 @@ class SweepTest(TempDirTestCase):
             ("[[mode]]\nname = \"z\"\nsetings = []\n",
              "\\[\\[mode\\]\\] 'z': unknown key 'setings'"),
             ("[[mode]]\nname = \"intra\"\n", "two modes share a name"),
+            ("[[mode]]\nname = \"w\"\nlabel = \"D3DMC\"\n", "two modes share a label"),
+            ("[[mode]]\nname = \"v\"\nlabel = \"a|b\"\n", "label 'a\\|b' holds '\\|'"),
+            ("[[sequence]]\nname = \"../../escaped\"\npattern = \"data/a/%d.obj\"\n"
+             "frame_count = 1\n", "the name '../../escaped' cannot name files"),
+            ("[[sequence]]\nname = \"average\"\npattern = \"data/a/%d.obj\"\n"
+             "frame_count = 1\n", "the name 'average' is taken"),
+            ("[[sequence]]\nname = \"c\"\npattern = \"data/a/%s.obj\"\nframe_count = 1\n",
+             "pattern must hold one frame number conversion"),
+            ("[[sequence]]\nname = \"c\"\npattern = \"data/a/%(x)04d.obj\"\n"
+             "frame_count = 1\n", "pattern must hold one frame number conversion"),
         ]
         for extra, message in cases:
             with self.subTest(message=message):
@@ -129,6 +139,21 @@ class SweepTest(TempDirTestCase):
         path = self.write("sweeps/syntax.toml", "[sweep\n")
         with self.assertRaisesRegex(SweepError, "syntax.toml"):
             Sweep(path)
+
+    def test_a_cache_file_that_is_not_a_result_is_no_result(self):
+        from tdvo_rd import job
+        for text in ("null", "[1, 2]", "\"text\"", "{\"format\":"):
+            with self.subTest(text=text):
+                self.write("results/jobs/k.json", text)
+                self.assertIsNone(job.read_result(os.path.join(self.tmp, "results"), "k"))
+
+    def test_a_geometry_sweep_refuses_a_dataset_from_a_cfg_file(self):
+        # It would code textures, and the cache key leaves Dataset out: results of the
+        # geometry-only coding would be reused.
+        self.write("cfg/intra.cfg", "PMeshMode : intra\nGOMSize : 1\nDataset : /nowhere\n")
+        with self.assertRaisesRegex(SweepError, "a cfg file sets Dataset, which is for texture "
+                                                "sweeps"):
+            Sweep(self.path).jobs()
 
     def test_missing_cfg_and_input_are_errors(self):
         os.unlink(os.path.join(self.tmp, "cfg/intra.cfg"))
