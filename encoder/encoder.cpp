@@ -111,6 +111,8 @@ void checkIndices(const std::vector<Triangle>& triangles, size_t count, const st
 // within the readers' range, triangle indices within the positions; counts within the codec's
 // limits (bitstream/syntax.h).
 void checkFrame(const Mesh& mesh, const std::string& name) {
+  check(!mesh.positions.empty(), name + ": no vertices");
+  check(!mesh.triangles.empty(), name + ": no faces");
   check(mesh.positions.size() <= kMaxVertices,
         name + ": more than " + std::to_string(kMaxVertices) + " vertices (the codec's limit)");
   check(mesh.triangles.size() <= kMaxTriangles,
@@ -151,18 +153,23 @@ EncodedSequence Encoder::encode(const std::vector<Mesh>& frames, const FrameCall
   FrameSource source;
   source.count = frames.size();
   source.name = [](size_t k) { return "frame " + std::to_string(k); };
-  source.read = [&frames, &source](size_t k) {
-    checkFrame(frames[k], source.name(k));
-    return frames[k];
-  };
+  source.read = [&frames](size_t k) { return frames[k]; };  // checked by the encode below
   EncodedSequence coded = encode(source, onFrame, onTexture);
   coded.frameInputIndex.clear();
   return coded;
 }
 
-EncodedSequence Encoder::encode(const FrameSource& source, const FrameCallback& onFrame,
+EncodedSequence Encoder::encode(const FrameSource& given, const FrameCallback& onFrame,
                                 const TextureCallback& onTexture,
                                 const std::function<void(size_t frame)>& onFramesRead) {
+  // Every frame is checked as it is read, like a mesh file (finite positions, triangle indices
+  // within its vertices), whatever the source: the coding tools assume it.
+  FrameSource source = given;
+  source.read = [&given](size_t k) {
+    Mesh mesh = given.read(k);
+    checkFrame(mesh, given.name(k));
+    return mesh;
+  };
   EncoderParams p = params();
   const Dataset* input = dataset();
   check(source.count > 0, "no frames to encode");

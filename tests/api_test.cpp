@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,7 @@
 #include "decoder/texture/h264_decoder.h"
 #include "encoder/encoder.h"
 #include "encoder/input_frames.h"
+#include "encoder/sequence_encoder.h"
 #include "stream_units.h"
 #include "test_support.h"
 
@@ -186,6 +189,19 @@ TEST(DecoderApi, FramesComeBeforeALaterError) {
   }
   EXPECT_EQ(pulled, pushFrames);
   EXPECT_GE(pulled, 8);  // the whole first GOM, and more
+  // The error stays: next() gives no frame of the broken state (it gave wrong frames).
+  for (int k = 0; k < 3; ++k) {
+    try {
+      decoder.next(frame);
+      ADD_FAILURE() << "no error after the error";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()), pushError);
+    }
+  }
+  // seek() starts afresh.
+  decoder.seek(decoder.info().firstFrame);
+  ASSERT_TRUE(decoder.next(frame));
+  EXPECT_EQ(frame.number, decoder.info().firstFrame);
 }
 
 // A textured stream's pictures come with their frame; each texture error is the push-style
@@ -541,6 +557,44 @@ TEST(EncoderApi, BadFramesAndKeysAreErrors) {
   encoder.set("FrameCount", "2");
   EXPECT_THROW(encoder.encode(frames), Error);
   EXPECT_THROW(encoder.encode(std::vector<Mesh>{}), Error);
+}
+
+// Frames read on demand (FrameSource) are checked as frames from memory are: each bad frame is
+// an Error naming it, before the codec uses it (NaN and infinite positions reached the coder as
+// std::logic_error, 1e301 was coded, and an index of 4e8 in every frame took gigabytes).
+TEST(EncoderApi, FramesReadOnDemandAreChecked) {
+  const std::vector<Mesh> frames = wobblingSphere(1, 3);
+  struct Case {
+    const char* what;
+    std::function<void(Mesh&)> spoil;
+    const char* message;
+  };
+  const std::vector<Case> cases = {
+      {"nan", [](Mesh& m) { m.positions[7][1] = std::nan(""); }, "has a non-finite coordinate"},
+      {"inf", [](Mesh& m) { m.positions[7][1] = HUGE_VAL; }, "has a non-finite coordinate"},
+      {"big", [](Mesh& m) { m.positions[7][1] = 1e301; }, "coordinate"},
+      {"index", [](Mesh& m) { m.triangles[4][2] = 400000000u; }, "triangle 4: vertex index"},
+      {"empty", [](Mesh& m) { m.triangles.clear(); }, "no faces"}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    FrameSource source;
+    source.count = frames.size();
+    source.name = [](size_t k) { return "source frame " + std::to_string(k); };
+    source.read = [&](size_t k) {
+      Mesh m = frames[k];
+      if (k == 1) c.spoil(m);
+      return m;
+    };
+    Encoder encoder;
+    encoder.set("GOMSize", "3");
+    try {
+      encoder.encode(source);
+      ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("source frame 1: "), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
+    }
+  }
 }
 
 // What the encoder's callbacks give is what the decoder makes of its stream.
