@@ -27,6 +27,9 @@ struct Decoder::State {
   std::unique_ptr<ArrivingStream> arriving;  // bytes arriving (openArriving)
   bool headerRead = false;
   uint32_t nextIndex = 0;  // the stream frame next() makes next
+  // The error next() threw, thrown again by every next() until seek(): decoding on from where
+  // it failed would give frames of a broken state.
+  std::optional<std::string> error;
 
   std::unique_ptr<UnitSource> units, textureUnits;  // geometry and texture units
   std::unique_ptr<StreamDecoder> decoder;
@@ -60,6 +63,7 @@ struct Decoder::State {
 
   // A new run from frame number `first` (-1: the stream's first frame), its header read.
   void restart(int64_t first) {
+    error.reset();
     units = source();
     textureUnits.reset();
     decoder = std::make_unique<StreamDecoder>(*units, name);
@@ -236,9 +240,15 @@ bool Decoder::next(DecodedFrame& frame) {
   // The texture units are read by a second reader of the same stream (StreamDecoder::pullFrame).
   if ((s.pictures || s.keepAccessUnits) && !s.info.cameras.empty() && !s.textureUnits)
     s.textureUnits = s.source();
+  if (s.error) throw Error(*s.error);
   uint32_t index = 0;
   const IntMesh* mesh = nullptr;
-  if (!s.decoder->pullFrame(index, mesh, s.textureUnits.get(), &frame.textures)) return false;
+  try {
+    if (!s.decoder->pullFrame(index, mesh, s.textureUnits.get(), &frame.textures)) return false;
+  } catch (const Error& e) {
+    s.error = e.what();
+    throw;
+  }
   frame.index = index;
   frame.number = s.info.frameNumber(index);
   s.nextIndex = index + 1;

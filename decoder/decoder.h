@@ -8,7 +8,8 @@
 //
 // Errors: every function throws tdvo::Error (common/core/error.h) with a message naming the
 // stream, the unit and its byte offset, exactly the message 3dvo-dec prints; nothing else is
-// thrown for a bad stream. After an error the decoder may only be destroyed or seek()ed.
+// thrown for a bad stream. After an error of next(), every next() throws that error again until
+// seek() (which starts decoding afresh); the decoder may also be destroyed.
 //
 // Memory: one frame (its mesh, and with textures one picture and one shape per camera) plus
 // one unit of the stream (a file is read unit by unit), whatever the GOM's length: frames are
