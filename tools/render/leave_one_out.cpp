@@ -13,7 +13,7 @@
 
 namespace tdvo {
 
-std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const std::vector<int>& frames,
+std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const FrameRange& frames,
                                         const RenderOptions& options,
                                         const std::string& renderFolder, bool overwrite,
                                         const std::vector<std::string>& inputs,
@@ -39,9 +39,9 @@ std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const std::vecto
     }
   std::optional<OutputFolder> files;
   if (!renderFolder.empty()) files.emplace(renderFolder, overwrite, inputs);
-  Progress progress("3dvo-render: leave-one-out", frames.size() * n);
+  Progress progress("3dvo-render: leave-one-out", static_cast<size_t>(frames.count) * n);
   size_t done = 0;
-  for (int frame : frames) {
+  for (int frame = frames.first; frame < frames.first + frames.count; ++frame) {
     const FrameViews views = loadFrameViews(dataset, cameraFrames, frame);
     const int referenceFrame = reference ? dataset.firstFrame + frame - reference->firstFrame : 0;
     if (reference)

@@ -21,6 +21,14 @@ struct LeaveOneOutRow {
   size_t fallbackPixels = 0;  // mask pixels no other camera sees (fallback colours)
 };
 
+// Frame indices first .. first + count - 1 of a dataset, without a list of them (a dataset may
+// declare up to 2^30 frames).
+struct FrameRange {
+  FrameRange(int first_, int count_) : first(first_), count(count_) {}
+  int first, count;
+  int operator[](size_t k) const { return first + static_cast<int>(k); }
+};
+
 // Evaluates every camera of `dataset` (frame indices `frames`) as held-out camera. The PSNR
 // mask is the camera's silhouette (mask files or alpha) when it has one, else the pixels the
 // rendered mesh covers. With a `reference` dataset, the held-out camera's image and mask are
@@ -30,7 +38,7 @@ struct LeaveOneOutRow {
 // is not empty the held-out renders are written there as <camera>/<frame index %04d>.png (an output
 // folder: common/core/file_io.h, OutputFolder; a non-empty one is refused unless `overwrite`).
 // Progress on stderr when it is a terminal.
-std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const std::vector<int>& frames,
+std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const FrameRange& frames,
                                         const RenderOptions& options,
                                         const std::string& renderFolder = "",
                                         bool overwrite = false,

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <set>
@@ -198,16 +199,13 @@ Dataset selectCameras(Dataset d, const std::string& names, int step) {
   return d;
 }
 
-std::vector<int> selectFrames(const Dataset& d, int first, int count) {
+FrameRange selectFrames(const Dataset& d, int first, int count) {
   check(first < d.frameCount, "FirstFrame " + std::to_string(first) + " is beyond the dataset's " +
                                   std::to_string(d.frameCount) + " frames");
-  const int last = count > 0 ? first + count : d.frameCount;
+  const int64_t last = count > 0 ? int64_t{first} + count : d.frameCount;
   check(last <= d.frameCount, "FirstFrame + FrameCount is beyond the dataset's " +
                                   std::to_string(d.frameCount) + " frames");
-  std::vector<int> frames;
-  for (int f = first; f < last; ++f)
-    frames.push_back(f);
-  return frames;
+  return {first, static_cast<int>(last - first)};
 }
 
 // An output file (Mp4, Csv) may not replace an input (docs/user-guide.md, "Output files"),
@@ -234,7 +232,7 @@ std::vector<std::string> protectedPaths(const std::vector<const Dataset*>& datas
   return files;
 }
 
-void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames,
+void runRender(const Params& p, const Dataset& d, const FrameRange& frames,
                const std::vector<std::string>& inputs) {
   check(!p.output.empty(), "no output folder given (-o DIR)");
   checkFramePattern(p.outputPattern, "OutputPattern");
@@ -242,9 +240,12 @@ void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames
   for (size_t i = 0; i < d.cameras.size(); ++i)
     cameraFrames.emplace_back(d, i);
 
-  // The virtual cameras, and the frame shown on each.
+  // The virtual cameras, and the frame shown on each: view k is views[k % views.size()] on
+  // frame viewFrame(k), for k < viewCount (a camera path is one camera over the frames; nothing
+  // is held per frame, so a dataset's frame count costs no memory).
   std::vector<Camera> views;
-  std::vector<int> viewFrames;
+  size_t viewCount = 0;
+  std::function<int(size_t)> viewFrame;
   const Camera intrinsics = virtualIntrinsics(d, p.width, p.height, p.fieldOfView);
   if (p.path == PathKind::camera) {
     check(!p.camera.empty(), "Path=camera needs --Camera=NAME");
@@ -254,11 +255,9 @@ void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames
                                          (p.cameras.empty() && p.cameraStep == 1
                                               ? std::string("of the dataset")
                                               : std::string("selected (Cameras, CameraStep)")));
-    const Camera c = chosen->camera;
-    for (int f : frames) {
-      views.push_back(c);
-      viewFrames.push_back(f);
-    }
+    views = {chosen->camera};
+    viewCount = static_cast<size_t>(frames.count);
+    viewFrame = [&frames](size_t k) { return frames[k]; };
   } else {
     const Vec3d up = datasetUp(d);
     if (p.path == PathKind::orbit) {
@@ -267,7 +266,7 @@ void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames
       orbit.distance = p.orbitDistance;
       orbit.turns = parseAuto(p.orbitTurns, "OrbitTurns", "turns", -1000, 1000);
       orbit.elevation = parseAuto(p.orbitElevation, "OrbitElevation", "degrees", -90, 90);
-      const Vec3d centre = boundingBoxCentre(readDatasetMesh(d, frames.front()));
+      const Vec3d centre = boundingBoxCentre(readDatasetMesh(d, frames.first));
       if (!orbit.turns) std::puts(describeArc(cameraArc(d, centre, up)).c_str());
       views = orbitPath(d, centre, up, intrinsics, orbit);
     } else {
@@ -277,27 +276,29 @@ void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames
     if (p.frame >= 0)
       check(p.frame < d.frameCount, "Frame " + std::to_string(p.frame) + " is beyond the " +
                                         std::to_string(d.frameCount) + " frames");
-    for (size_t k = 0; k < views.size(); ++k)
-      viewFrames.push_back(p.frame >= 0 ? p.frame : frames[k % frames.size()]);
+    viewCount = views.size();
+    viewFrame = [&p, &frames](size_t k) {
+      return p.frame >= 0 ? p.frame : frames[k % static_cast<size_t>(frames.count)];
+    };
   }
 
   // The MP4 may not be one of the views written into the folder.
   InputFiles written;
   written.addPattern((fs::path(p.output) / p.outputPattern).string(), 0,
-                     static_cast<int>(views.size()), "this run's output");
+                     static_cast<int>(viewCount), "this run's output");
   written.checkOutput(p.mp4);
   OutputFolder files(p.output, p.overwrite, inputs);
   std::unique_ptr<Mp4Writer> mp4;
   std::optional<FrameViews> loaded;
   int loadedFrame = -1;
   RenderStats stats;
-  Progress progress("3dvo-render: rendering", views.size());
-  for (size_t k = 0; k < views.size(); ++k) {
-    if (viewFrames[k] != loadedFrame) {
-      loaded = loadFrameViews(d, cameraFrames, viewFrames[k]);
-      loadedFrame = viewFrames[k];
+  Progress progress("3dvo-render: rendering", viewCount);
+  for (size_t k = 0; k < viewCount; ++k) {
+    if (viewFrame(k) != loadedFrame) {
+      loadedFrame = viewFrame(k);
+      loaded = loadFrameViews(d, cameraFrames, loadedFrame);
     }
-    const Image image = renderView(*loaded, views[k], p.render, {}, &stats);
+    const Image image = renderView(*loaded, views[k % views.size()], p.render, {}, &stats);
     const std::vector<uint8_t> png = encodePng(image);
     files.write((fs::path(p.output) / framePath(p.outputPattern, static_cast<int>(k))).string(),
                 png.data(), png.size());
@@ -316,7 +317,7 @@ void runRender(const Params& p, const Dataset& d, const std::vector<int>& frames
   std::printf(
       "3dvo-render: wrote %zu views to %s%s%s; of %zu object pixels %.2f %% blended, %.2f %% "
       "nearest-camera fallback, %.2f %% flat fallback, %.2f %% filled\n",
-      views.size(), p.output.c_str(), p.mp4.empty() ? "" : " and ", p.mp4.c_str(), stats.covered,
+      viewCount, p.output.c_str(), p.mp4.empty() ? "" : " and ", p.mp4.c_str(), stats.covered,
       100.0 * stats.blended / covered, 100.0 * stats.fallbackNearest / covered,
       100.0 * stats.fallbackColour / covered, 100.0 * stats.fallbackFill / covered);
 }
@@ -338,7 +339,7 @@ int main(int argc, char** argv) {
     const Dataset d = selectCameras(full, p.cameras, p.cameraStep);
     check(!d.meshes.empty(), p.input + ": the dataset has no meshes; the renderer needs the " +
                                  "object's surface (\"meshes\" in dataset.json)");
-    const std::vector<int> frames = selectFrames(d, p.firstFrame, p.frameCount);
+    const FrameRange frames = selectFrames(d, p.firstFrame, p.frameCount);
     std::vector<std::string> inputFiles = table.filesRead();
     inputFiles.push_back(p.poses);
 
