@@ -157,9 +157,11 @@ UnitFileReader::UnitFileReader(const std::string& path, std::string name) : name
   long end = -1;
   if (std::fseek(file_, 0, SEEK_END) == 0) end = std::ftell(file_);
   if (end < 0 || std::fseek(file_, 0, SEEK_SET) != 0) {
-    const std::string why = std::strerror(errno);
+    const int error = errno;
     std::fclose(file_);
-    throw Error(name_ + ": cannot read: " + why);
+    // A stream is read unit by unit, with seeks (the texture units by a second reader).
+    throw Error(name_ + ": cannot read: " + std::strerror(error) +
+                (error == ESPIPE ? " (a pipe or terminal; decode from a regular file)" : ""));
   }
   size_ = static_cast<uint64_t>(end);
   uint8_t magic[4] = {0, 0, 0, 0};
