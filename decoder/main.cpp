@@ -222,6 +222,7 @@ int main(int argc, char** argv) {
     table.add("FirstFrame", firstFrame, 0, static_cast<int>(kMaxFirstFrame + kMaxFrames - 1),
               "decode from this input frame number on (not set: the stream's first frame); "
               "decoding starts at the GOM holding it, output starts at it");
+    table.derivedWhenUnset("FirstFrame", "the stream's first frame", false);
     table.add("FrameCount", frameCount, 0, static_cast<int>(kMaxFrames),
               "output this many frames from FirstFrame (0 = to the end of the stream)");
     table.addEnum("PngCompression", pngEffort,

@@ -6,10 +6,14 @@
 # browser (3dvo-play: the page decodes it, with the WebAssembly decoder that scripts/wasm.sh
 # builds as part of the setup: about 5 to 10 minutes the first time, on 2 cores).
 #
-# TDVO_DEMO_OUT (default demo-output) is the output folder; TDVO_DEMO_SKIP_SETUP=1 skips the
-# setup and TDVO_BIN_DIR (default build/bin) names the apps (the test of this script, ctest
-# `demo`, runs it on a built tree).
+# TDVO_DEMO_OUT (default demo-output in the repository) is the output folder; TDVO_DEMO_SKIP_SETUP=1
+# skips the setup and TDVO_BIN_DIR (default build/bin) names the apps (the test of this script,
+# ctest `demo`, runs it on a built tree). Relative paths in them are relative to the folder the
+# script is run from.
 set -euo pipefail
+absolute() { case "$1" in /*) printf '%s' "$1" ;; *) printf '%s/%s' "$PWD" "$1" ;; esac; }
+[ -z "${TDVO_DEMO_OUT:-}" ] || TDVO_DEMO_OUT="$(absolute "$TDVO_DEMO_OUT")"
+[ -z "${TDVO_BIN_DIR:-}" ] || TDVO_BIN_DIR="$(absolute "$TDVO_BIN_DIR")"
 cd "$(dirname "$0")/.."
 if [ "${TDVO_DEMO_SKIP_SETUP:-0}" != 1 ]; then
   bash scripts/setup.sh

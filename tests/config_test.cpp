@@ -149,6 +149,19 @@ TEST(Config, ShortFlags) {
   EXPECT_FALSE(p.trace);
 }
 
+// A long alias takes its value after '=' too (3dvo-dec --verify=FILE, as --verify FILE).
+TEST(Config, LongAliasTakesItsValueAfterAnEqualsSign) {
+  std::string log;
+  OptionTable t("app", "usage");
+  t.add("VerifyMd5", log, "the encoder's output", "--verify");
+  const char* argv[] = {"app", "--verify=enc.log"};
+  ASSERT_TRUE(t.parseCommandLine(2, argv));
+  EXPECT_EQ(log, "enc.log");
+  const char* spaced[] = {"app", "--verify", "other.log"};
+  ASSERT_TRUE(t.parseCommandLine(3, spaced));
+  EXPECT_EQ(log, "other.log");
+}
+
 TEST(Config, ShortFlagNeedsAValue) {
   Params p;
   EXPECT_EQ(p.parseError({"-o"}), "-o needs a value");

@@ -83,6 +83,22 @@ TEST(Docs, EveryAppTakesHelpAndVersion) {
   }
 }
 
+// docs/dataset.md's example is the start of what 3dvo-synth writes (it had gone stale).
+TEST(Docs, TheDatasetExampleIsWhatSynthWrites) {
+  test::TempDir dir("docs-synth");
+  const test::CommandResult r = test::run(dir, kBin + "/3dvo-synth", {"-o", "rig"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::string page = test::readText(std::string(TDVO_SOURCE_DIR) + "/docs/dataset.md");
+  const size_t example = page.find("The start of the dataset `3dvo-synth -o DIR` writes:");
+  ASSERT_NE(example, std::string::npos);
+  const size_t from = page.find("```json\n", example), to = page.find("    },\n", from);
+  ASSERT_NE(from, std::string::npos);
+  ASSERT_NE(to, std::string::npos);
+  const std::string shown = page.substr(from + 8, to + 7 - (from + 8));
+  const std::string written = test::readText(dir.file("rig/dataset.json"));
+  EXPECT_EQ(written.substr(0, shown.size()), shown);
+}
+
 // What an app prints must reach standard output: when it cannot (a full disk, here /dev/full),
 // the run is an error with exit status 1 and says so, instead of a success with a lost report.
 TEST(Docs, EveryAppFailsWhenItsOutputCannotBeWritten) {

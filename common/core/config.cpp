@@ -186,10 +186,11 @@ bool OptionTable::wasSet(const std::string& key) const {
   return o && o->set;
 }
 
-void OptionTable::derivedWhenUnset(const std::string& key, const std::string& how) {
+void OptionTable::derivedWhenUnset(const std::string& key, const std::string& how, bool fallsBack) {
   Option* o = find(key);
   if (!o) throw std::logic_error("derivedWhenUnset: no option " + key);
   o->derivedHow = how;
+  o->fallsBack = fallsBack;
 }
 
 void OptionTable::parseText(const std::string& text, const std::string& origin) {
@@ -243,7 +244,14 @@ bool OptionTable::parseCommandLine(int argc, const char* const* argv) {
       continue;
     }
     bool matched = false;
-    for (Option& o : options_)
+    for (Option& o : options_) {
+      // A long alias also takes its value after '=' (--verify=FILE, as --verify FILE).
+      const std::string withValue = o.shortFlag + "=";
+      if (!o.isBool && o.shortFlag.rfind("--", 0) == 0 && arg.rfind(withValue, 0) == 0) {
+        set(o.key, arg.substr(withValue.size()), "option " + arg);
+        matched = true;
+        break;
+      }
       if (!o.shortFlag.empty() && o.shortFlag == arg) {
         if (o.isBool) {
           set(o.key, "true", "option " + arg);
@@ -254,6 +262,7 @@ bool OptionTable::parseCommandLine(int argc, const char* const* argv) {
         matched = true;
         break;
       }
+    }
     if (matched) continue;
     if (arg.rfind("--", 0) == 0) {
       size_t eq = arg.find('=');
@@ -288,8 +297,14 @@ std::string OptionTable::helpText() const {
     std::string name = "  " + o.key;
     if (!o.shortFlag.empty()) name += " (" + o.shortFlag + ")";
     if (name.size() < 26) name.resize(26, ' ');
-    out += name + " " + o.help + "\n" + std::string(27, ' ') +
-           "default: " + (o.defaultValue.empty() ? "(none)" : o.defaultValue) + "\n";
+    // A key the program derives while it is unset has no fixed default: how it is derived is
+    // what the user gets.
+    const std::string value = o.defaultValue.empty() ? "(none)" : o.defaultValue;
+    out += name + " " + o.help + "\n" + std::string(27, ' ') + "default: " +
+           (o.derivedHow.empty()
+                ? value
+                : "not set (" + o.derivedHow + (o.fallsBack ? "; else " + value : "") + ")") +
+           "\n";
   }
   return out;
 }

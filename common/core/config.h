@@ -60,8 +60,10 @@ class OptionTable {
   // Marks a key whose value the program derives at run time when no file or option sets it
   // (from other keys or from the input; `how` says how, e.g. "chosen by Quality"): its being
   // set changes what the program does, so effectiveConfig() prints it, while unset, as a
-  // comment, and the printed configuration read back leaves it unset too.
-  void derivedWhenUnset(const std::string& key, const std::string& how);
+  // comment, and the printed configuration read back leaves it unset too. --help shows the
+  // default as "not set (how; else DEFAULT)", or "not set (how)" when `fallsBack` is false (the
+  // default is never used).
+  void derivedWhenUnset(const std::string& key, const std::string& how, bool fallsBack = true);
 
   // The cfg files read so far (-c and parseFile), in order: inputs no output may overwrite.
   const std::vector<std::string>& filesRead() const { return filesRead_; }
@@ -78,6 +80,7 @@ class OptionTable {
   struct Option {
     std::string key, shortFlag, help, defaultValue, section;
     std::string derivedHow;  // derivedWhenUnset: how the value is derived when not set
+    bool fallsBack = true;   // derivedWhenUnset: the default is used where nothing is derived
     bool isBool = false;
     bool set = false;
     std::function<void(const std::string&)> parse;  // throws std::string message on bad value
