@@ -284,6 +284,16 @@ int main(int argc, char** argv) {
       writeMeshes = meshFormatName != "none";
       if (!table.wasSet("OutputMeshPattern"))
         meshPattern = std::string("%04d") + meshOutputExtension(meshFormat);
+      // Files named as one format and holding another could be read by no reader (each takes
+      // the format from the name).
+      const auto asNamed = [](MeshOutputFormat f) {
+        return f == MeshOutputFormat::kPlyAscii ? MeshOutputFormat::kPly : f;
+      };
+      check(!writeMeshes || asNamed(meshOutputFormat(meshPattern)) == asNamed(meshFormat),
+            "OutputMeshPattern '" + meshPattern + "' names " +
+                meshOutputExtension(meshOutputFormat(meshPattern)) + " files, but MeshFormat " +
+                meshFormatName + " writes " + meshOutputExtension(meshFormat) +
+                " files: give matching ones (or either alone)");
     }
     checkFramePattern(meshPattern, "OutputMeshPattern");
     if (!animationFile.empty()) {

@@ -1525,6 +1525,12 @@ CATALOGUE_TEST(D17) {
   expectRow("D17", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--MeshFormat=gltf"});
 }
 
+CATALOGUE_TEST(D18) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  expectRow("D18", "3dvo-dec",
+            {"-i", "x.3dvo", "-o", "out", "--MeshFormat=ply", "--OutputMeshPattern=f%03d.obj"});
+}
+
 // ---- PLY and glTF input (3dvo-enc) ----
 
 // Frame 0 of the usual sphere, as a file `name` in in/, and the encoder's arguments for it.
