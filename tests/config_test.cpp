@@ -77,6 +77,17 @@ struct Params {
   }
 };
 
+// --help's default line of a key: "default: VALUE", or for a key derived while unset
+// "default: not set (how; else VALUE)".
+void expectDefaultShown(const std::string& line, const std::string& value, const std::string& key) {
+  const std::string shown = line.substr(line.find_first_not_of(' '));
+  const std::string fallback = "; else " + value + ")";
+  EXPECT_TRUE(shown == "default: " + value ||
+              (shown.rfind("default: not set (", 0) == 0 && shown.size() > fallback.size() &&
+               shown.compare(shown.size() - fallback.size(), fallback.size(), fallback) == 0))
+      << key << ": " << shown;
+}
+
 TEST(Config, CfgSyntax) {
   Params p;
   p.table.parseText(
@@ -384,13 +395,7 @@ TEST(Config, HelpListsEveryKeyWithItsDefault) {
     while (i < lines.size() && lines[i].rfind("  " + key + " ", 0) != 0)
       ++i;
     ASSERT_LT(i + 1, lines.size()) << key << " missing from:\n" << help;
-    // A key derived while unset shows how, then the default it falls back to.
-    const std::string shown = lines[i + 1].substr(lines[i + 1].find_first_not_of(' '));
-    const std::string fallback = "; else " + value + ")";
-    EXPECT_TRUE(shown == "default: " + value ||
-                (shown.rfind("default: not set (", 0) == 0 && shown.size() > fallback.size() &&
-                 shown.compare(shown.size() - fallback.size(), fallback.size(), fallback) == 0))
-        << key << ": " << shown;
+    expectDefaultShown(lines[i + 1], value, key);
   }
   EXPECT_NE(help.find("grid bits [8..20]"), std::string::npos);
   EXPECT_NE(help.find("speed preset (slow | medium | fast)"), std::string::npos);
@@ -494,7 +499,7 @@ TEST(Config, EncoderKeysRequiredByTheDesign) {
     while (i < lines.size() && lines[i].rfind("  " + key + " ", 0) != 0)
       ++i;
     ASSERT_LT(i + 1, lines.size()) << key << " missing from:\n" << help;
-    EXPECT_EQ(lines[i + 1].substr(lines[i + 1].find_first_not_of(' ')), "default: " + value) << key;
+    expectDefaultShown(lines[i + 1], value, key);
   }
   // Every key of the effective configuration is documented in --help (the keys derived when
   // unset are printed as comments).
