@@ -17,6 +17,13 @@ namespace tdvo {
 
 namespace {
 
+// A closest point that counts: one was found (a facing triangle; none leaves the triangle
+// UINT32_MAX) within the distance limit. Written so that a NaN distance, or an infinite limit
+// on a mesh whose size overflowed, never counts a point that does not exist.
+bool found(const ClosestPoint& c, double maxSquared) {
+  return c.triangle != UINT32_MAX && c.squaredDistance <= maxSquared;
+}
+
 // Area-weighted vertex normals (unit; zero for isolated vertices) and unit face normals.
 void computeNormals(const Mesh& mesh, std::vector<Vec3d>& vertexNormals,
                     std::vector<Vec3d>& faceNormals) {
@@ -57,7 +64,7 @@ void alignRigidly(Mesh& pose, const TriangleBvh& target, int iterations, double 
     for (size_t i = 0; i < n; i += step) {
       const Vec3d& p = pose.positions[i];
       const ClosestPoint c = target.closestFacing(p, normals[i], minCos, hint[i]);
-      if (c.squaredDistance > maxSquared) continue;
+      if (!found(c, maxSquared)) continue;
       hint[i] = c.triangle;
       const Vec3d& m = target.normal(c.triangle);
       const Vec3d pm = cross(p, m);
@@ -209,7 +216,7 @@ FitStats MeshTracker::fit(const Mesh& target) {
     for (size_t i = 0; i < n; ++i) {
       const ClosestPoint c =
           targetBvh.closestFacing(s.pose.positions[i], vertexNormals[i], minCos, vertexHint[i]);
-      if (c.squaredDistance > maxSquared) continue;
+      if (!found(c, maxSquared)) continue;
       vertexHint[i] = c.triangle;
       ++stats.vertexPairs;
       triplets.emplace_back(i, i, 1.0);
@@ -227,7 +234,7 @@ FitStats MeshTracker::fit(const Mesh& target) {
     for (uint32_t v : samples) {
       const Vec3d& q = target.positions[v];
       const ClosestPoint c = poseBvh.closestFacing(q, targetVertexNormals[v], minCos, hint);
-      if (c.squaredDistance > maxSquared) continue;
+      if (!found(c, maxSquared)) continue;
       hint = c.triangle;
       ++stats.targetPairs;
       const Triangle& tri = s.pose.triangles[c.triangle];
