@@ -350,6 +350,12 @@ class GomCoder : public GomUnits {
   // cfg drops are dropped; the rest must be in the stream (its first frame decided) and, in a
   // GOM of P meshes, the texture coordinates the same in every frame; the normals are coded
   // when they are (or when Normals says so), else computed (normalMode_).
+  // Why a GOM codes no normals: the input has none, or Normals none left them out.
+  const char* noNormals() const {
+    return params_.normals == NormalsChoice::kNone ? "none (Normals none: left out)"
+                                                   : "none in the input";
+  }
+
   void checkAttributes() {
     for (size_t k = 0; k < inputs_.size(); ++k) {
       MeshAttributes& a = inputs_[k].attributes;
@@ -386,7 +392,7 @@ class GomCoder : public GomUnits {
       normalMode_ = !any                                 ? NormalMode::kNone
                     : choice == NormalsChoice::kComputed ? NormalMode::kComputed
                                                          : NormalMode::kPerVertex;
-      out_.normals = !any ? "none in the input"
+      out_.normals = !any ? noNormals()
                      : normalMode_ == NormalMode::kComputed
                          ? "computed by the decoder from each decoded frame"
                          : "coded exactly in every frame";
@@ -394,7 +400,7 @@ class GomCoder : public GomUnits {
     }
     if (!first.hasNormals()) {
       normalMode_ = NormalMode::kNone;
-      out_.normals = "none in the input";
+      out_.normals = noNormals();
       return;
     }
     check(!(normalsChange && choice == NormalsChoice::kCoded),

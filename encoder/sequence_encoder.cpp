@@ -36,10 +36,11 @@ class GomWriter {
     for (const std::string& warning : gom.warnings)
       warn(warning);
     // How normals are carried, said when it changes (the first time, and from the GOM on that
-    // changes it).
+    // changes it), through the warning handler: a program using the library receives it, and
+    // Quality's trial codings (QuietWarnings) do not repeat it.
     if (attributesPresent_ && gom.normals != normals_) {
-      std::fprintf(stderr, "3dvo-enc: normals from frame %lld on: %s\n",
-                   static_cast<long long>(first) + firstFrame_, gom.normals.c_str());
+      warn("normals from frame " + std::to_string(static_cast<long long>(first) + firstFrame_) +
+           " on: " + gom.normals);
       normals_ = gom.normals;
     }
     for (const GomGeometry::Unit& unit : gom.units)

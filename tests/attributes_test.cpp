@@ -471,6 +471,28 @@ TEST(AttributesRoundTrip, EncoderRefusesWhatItWouldLose) {
       << late.err;
 }
 
+// How normals are carried is said once, as a warning (Quality's trial codings repeated it, on
+// stderr past the warning handler), and Normals none says it left them out.
+TEST(AttributesRoundTrip, TheNormalsLineIsSaidOnce) {
+  test::TempDir dir("attributes-normals");
+  std::filesystem::create_directories(dir.path() / "in");
+  for (const char* frame : {"in/000.obj", "in/001.obj"})
+    test::writeText(dir.file(frame),
+                    "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n"
+                    "f 1/1/1 2/2/1 3/3/1\n");
+  for (const bool none : {false, true}) {
+    std::vector<std::string> args = {"--InputMeshPattern=in/%03d.obj", "-o", "x.3dvo"};
+    if (none) args.push_back("--Normals=none");
+    const test::CommandResult enc = test::run(dir, kBin + "/3dvo-enc", args);  // Quality 50
+    ASSERT_EQ(enc.exitCode, 0) << enc.err;
+    const std::string line = std::string("3dvo-enc: warning: normals from frame 0 on: ") +
+                             (none ? "none (Normals none: left out)" : "coded exactly");
+    EXPECT_EQ(test::linesStartingWith(enc.err, line).size(), 1u) << enc.err;
+    EXPECT_EQ(enc.err.find("normals from frame 0 on:"), enc.err.rfind("normals from frame 0 on:"))
+        << enc.err;
+  }
+}
+
 // An OBJ file with more texture coordinates than face corners (values no corner refers to): those
 // are left out with a warning, and every corner keeps its value. (The encoder refused the file.)
 TEST(AttributesRoundTrip, ValuesNoCornerRefersToAreLeftOut) {
