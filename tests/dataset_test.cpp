@@ -168,7 +168,7 @@ TEST(Dataset, ANameThatIsNotUtf8IsAnErrorWhenWritten) {
     formatDataset(d, dir.str());
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("take\\xFF/"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("take\\xff/"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("is not UTF-8 text"), std::string::npos) << e.what();
   }
 }

@@ -372,13 +372,8 @@ std::string jsonValue(const std::string& v) {
   try {
     return Json(v).dump();
   } catch (const Json::type_error&) {  // not UTF-8: JSON text cannot hold it
-    std::string shown;
-    for (const unsigned char c : v) {
-      char hex[8];
-      std::snprintf(hex, sizeof hex, "\\x%02X", c);
-      shown += c >= 0x20 && c < 0x7F ? std::string(1, char(c)) : std::string(hex);
-    }
-    throw Error("'" + shown + "' is not UTF-8 text, which a dataset.json (JSON) cannot hold; " +
+    // (Error shows the bytes that are not UTF-8 as \xNN.)
+    throw Error("'" + v + "' is not UTF-8 text, which a dataset.json (JSON) cannot hold; " +
                 "rename the file, folder or camera");
   }
 }
