@@ -298,11 +298,15 @@ class GomCoder : public GomUnits {
     IMeshEncoding i =
         encodeIMesh(input, params_.gridBits, params_.dracoSpeed, params_.inputTriangleOrder);
     // Draco does not keep vertices that no triangle uses; say so rather than drop them quietly.
-    if (i.decoded.positions.size() != input.positions.size())
-      out_.warnings.push_back(name(k) + ": " + std::to_string(input.positions.size()) +
-                              " vertices in, " + std::to_string(i.decoded.positions.size()) +
-                              " coded (Draco drops vertices no triangle uses and splits "
-                              "non-manifold ones)");
+    // Counted in the output order, not in Draco's vertices: the copies Draco makes of a
+    // non-manifold vertex merge back into it there, and could hide a dropped vertex.
+    if (i.order.numVertices != input.positions.size())
+      out_.warnings.push_back(
+          name(k) + ": " + std::to_string(input.positions.size()) + " vertices in, " +
+          std::to_string(i.order.numVertices) +
+          " out: " + std::to_string(input.positions.size() - i.order.numVertices) +
+          " that no triangle uses are dropped (Draco keeps only vertices of triangles; later "
+          "vertices shift down)");
     if (i.keptDegenerate + i.droppedDegenerate > 0)
       out_.warnings.push_back(
           name(k) + ": " + std::to_string(i.keptDegenerate + i.droppedDegenerate) + " of " +

@@ -543,6 +543,38 @@ TEST(SequenceEncoder, DegenerateTriangleOnAnUnusedVertexIsDropped) {
   EXPECT_EQ(r.decoderFrames[0].positions.size(), m.positions.size() - 1);
 }
 
+// The dropped-vertex warning counts output vertices, not Draco's: a non-manifold vertex that
+// Draco splits in two must not hide a vertex no triangle uses (the counts would agree), and a
+// split alone, which the output order merges back, drops nothing.
+TEST(SequenceEncoder, AnUnusedVertexIsWarnedAboutBesideANonManifoldOne) {
+  Mesh bowtie;  // vertex 0 joins two fans that share nothing else; vertex 5 is unused
+  bowtie.positions = {{0, 0, 0},   {1, 1, 0}, {1, -1, 0}, {-1, 1, 0},
+                      {-1, -1, 0}, {7, 7, 7}, {2, 2, 2}};
+  bowtie.triangles = {{0, 1, 2}, {0, 3, 4}, {1, 6, 2}};
+  for (const bool unused : {true, false}) {
+    Mesh m = bowtie;
+    if (!unused) {
+      m.positions.erase(m.positions.begin() + 5);
+      m.triangles.back() = {1, 5, 2};
+    }
+    testing::internal::CaptureStderr();
+    const RoundTrip r = encodeAndDecode({m}, paramsFor(10, 1, PMeshMode::kIntra));
+    const std::string err = testing::internal::GetCapturedStderr();
+    ASSERT_EQ(r.decoderFrames.size(), 1u);
+    if (unused) {
+      EXPECT_NE(err.find("7 vertices in, 6 out: 1 that no triangle uses are dropped"),
+                std::string::npos)
+          << err;
+      EXPECT_EQ(r.decoderFrames[0].positions.size(), 6u);
+      EXPECT_EQ(r.decoderFrames[0].triangles,
+                (std::vector<Triangle>{{0, 1, 2}, {0, 3, 4}, {1, 5, 2}}));
+    } else {
+      EXPECT_EQ(err.find("vertices in"), std::string::npos) << err;
+      EXPECT_EQ(r.decoderFrames[0].triangles, m.triangles);
+    }
+  }
+}
+
 // Nothing but degenerate triangles: no surface to code.
 TEST(SequenceEncoder, OnlyDegenerateTrianglesAreRefused) {
   std::vector<Mesh> none = test::waveSheet(5, 5, 1);
