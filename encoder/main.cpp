@@ -93,12 +93,17 @@ int main(int argc, char** argv) {
     }
     if (!params.gomListFile.empty()) params.goms(static_cast<size_t>(params.frameCount));
     source.count = static_cast<size_t>(params.frameCount);
-    source.name = [&params, input](size_t k) {
+    auto framePathOf = [&params, input](size_t k) {
       return inputMeshPath(params, input, params.firstFrame + static_cast<int>(k));
     };
-    source.read = [&source, &animation, &params](size_t k) {
+    // A frame's name in messages: its file, or the sequence file and the keyframe.
+    source.name = [&framePathOf, &animation, &params](size_t k) {
+      if (!animation) return framePathOf(k);
+      return framePathOf(k) + " keyframe " + std::to_string(params.firstFrame + k);
+    };
+    source.read = [&framePathOf, &animation, &params](size_t k) {
       if (animation) return animation->frame(static_cast<size_t>(params.firstFrame) + k);
-      return readMesh(source.name(k));
+      return readMesh(framePathOf(k));
     };
     // The input's frame number (FirstFrame + k) names the reconstruction of coded frame k.
     auto reconName = [&params](int k) {
@@ -113,8 +118,8 @@ int main(int argc, char** argv) {
       for (const std::string& cfg : table.filesRead())
         inputs.add(cfg);
       inputs.add(params.gomListFile);
-      for (size_t k = 0; k < source.count; ++k)
-        inputs.add(source.name(k));
+      for (size_t k = 0; k < (animation ? std::min<size_t>(source.count, 1) : source.count); ++k)
+        inputs.add(framePathOf(k));
       if (input) addDatasetFiles(inputs, *input);  // every file of the dataset
       inputs.checkOutput(params.bitstreamFile);
       if (!params.reconMeshPattern.empty())

@@ -1738,11 +1738,31 @@ CATALOGUE_TEST(F11) {
 
 CATALOGUE_TEST(F12) {
   nlohmann::json j = sphereGltf();
-  for (int i = 1; i < 40; ++i) {
-    j["meshes"][i] = j["meshes"][0];
-    j["nodes"][i] = {{"mesh", i}};
+  for (int i = 0; i < 400; ++i) {
+    j["nodes"][i] = {{"mesh", 0}};
+    j["scenes"][0]["nodes"][i] = i;
   }
   expectRow("F12", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
+}
+
+CATALOGUE_TEST(F23) {
+  nlohmann::json j = sphereGltf();
+  j["nodes"][1] = {{"children", {0}}};
+  j["scenes"][0]["nodes"] = {0, 1};
+  expectRow("F23", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
+}
+
+CATALOGUE_TEST(F24) {
+  nlohmann::json j = sphereGltf();
+  j["nodes"][0]["skin"] = 0;
+  j["skins"] = {{{"joints", {0}}}};
+  expectRow("F24", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
+}
+
+CATALOGUE_TEST(F25) {
+  nlohmann::json j = sphereGltf();
+  j["scene"] = 2;
+  expectRow("F25", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
 }
 
 // The tinygltf-independent animated file: our writer's 6-frame animation (one run).
@@ -1854,9 +1874,10 @@ CATALOGUE_TEST(F18) {
 
 CATALOGUE_TEST(F19) {
   nlohmann::json j = sphereGltf();
-  j["meshes"][0]["primitives"][0]["targets"] = {
-      {{"POSITION", 0}}, {{"POSITION", 0}}, {{"POSITION", 0}}};
-  j["meshes"][0]["weights"] = {1, 1, 1};
+  for (int i = 0; i < 300; ++i) {
+    j["meshes"][0]["primitives"][0]["targets"][i] = {{"POSITION", 0}};
+    j["meshes"][0]["weights"][i] = 1;
+  }
   expectRow("F19", "3dvo-enc", meshInput(dir_, "000.gltf", j.dump()));
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -369,26 +370,255 @@ TEST(Gltf, LimitsAndMalformedFiles) {
                   "4},{\"uri\":\"./b.bin\",\"byteLength\":4}]}");
   EXPECT_NE(errorOf([&] { GltfFile file(dir.file("two.gltf")); }).find("named by two buffers"),
             std::string::npos);
-  // Accessors sharing one bufferView cannot make a frame larger than the buffers hold.
+  // A mesh used by many nodes (or accessors sharing their data) cannot make a frame larger
+  // than one vertex per byte of the file: 400 nodes showing one 42-vertex mesh.
   const Mesh m = test::wobblingSphere(1, 1)[0];
-  std::string gltf = formatGltf(m, GltfContainer::kGltf);
-  const size_t meshes = gltf.find("\"meshes\":[");
-  ASSERT_NE(meshes, std::string::npos);
-  const size_t end = gltf.find("]}]", meshes);
-  const std::string one = gltf.substr(meshes + 10, end + 2 - meshes - 10);  // {"primitives":[..]}
-  std::string nodes = "\"nodes\":[";
-  std::string list;
-  for (int i = 0; i < 40; ++i) {
-    list += (i ? "," : "") + one;
-    nodes += std::string(i ? "," : "") + "{\"mesh\":" + std::to_string(i) + "}";
+  nlohmann::json j = nlohmann::json::parse(formatGltf(m, GltfContainer::kGltf));
+  for (int i = 0; i < 400; ++i) {
+    j["nodes"][i] = {{"mesh", 0}};
+    j["scenes"][0]["nodes"][i] = i;
   }
-  gltf.replace(meshes + 10, end + 2 - meshes - 10, list);
-  const size_t n = gltf.find("\"nodes\":[");
-  gltf.replace(n, gltf.find(']', n) + 1 - n, nodes + "]");
-  EXPECT_NE(errorOf([&] {
-              GltfFile(std::vector<uint8_t>(gltf.begin(), gltf.end()), "x.gltf").frame(0);
-            }).find("more than its buffers'"),
-            std::string::npos);
+  const std::string shared = j.dump();
+  const std::string sharedError = errorOf(
+      [&] { GltfFile(std::vector<uint8_t>(shared.begin(), shared.end()), "x.gltf").frame(0); });
+  EXPECT_NE(sharedError.find("x.gltf: 16800 vertices and 32000 triangles, more than one of each "
+                             "per byte of the file and its buffers"),
+            std::string::npos)
+      << sharedError;
+}
+
+// ---- glTF scenes and node transforms ----
+
+std::string base64(const std::string& bytes) {
+  static const char* const kDigits =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    uint32_t v = 0;
+    for (size_t b = 0; b < 3; ++b)
+      v = v << 8 | (i + b < bytes.size() ? static_cast<uint8_t>(bytes[i + b]) : 0u);
+    for (size_t d = 0; d < 4; ++d)
+      out += d <= bytes.size() - i ? kDigits[(v >> (18 - 6 * d)) & 63] : '=';
+  }
+  return out;
+}
+
+// Appends a buffer holding `values` (float) with one accessor of `type` over them; returns
+// the accessor's index.
+int addFloatAccessor(nlohmann::json& j, const std::vector<float>& values, const char* type,
+                     size_t count) {
+  const std::string bytes(reinterpret_cast<const char*>(values.data()), values.size() * 4);
+  const size_t buffer = j["buffers"].size(), view = j["bufferViews"].size(),
+               accessor = j["accessors"].size();
+  j["buffers"][buffer] = {{"byteLength", bytes.size()},
+                          {"uri", "data:application/octet-stream;base64," + base64(bytes)}};
+  j["bufferViews"][view] = {{"buffer", buffer}, {"byteLength", bytes.size()}};
+  j["accessors"][accessor] = {
+      {"bufferView", view}, {"componentType", 5126}, {"count", count}, {"type", type}};
+  if (std::string(type) == "SCALAR") {
+    j["accessors"][accessor]["min"] = {values.front()};
+    j["accessors"][accessor]["max"] = {values.back()};
+  }
+  return static_cast<int>(accessor);
+}
+
+// A tetrahedron with per-vertex normals (what formatGltf writes as node 0 of scene 0).
+Mesh tetrahedron() {
+  Mesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  m.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  m.attributes.normals = {{-0.57735f, -0.57735f, -0.57735f}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  m.attributes.normalTriangles = m.triangles;
+  return m;
+}
+
+Mesh frameOf(const nlohmann::json& j, size_t k = 0) {
+  const std::string text = j.dump();
+  return GltfFile(std::vector<uint8_t>(text.begin(), text.end()), "t.gltf").frame(k);
+}
+
+// Rotation by `degrees` about z, then `scale`, then `offset`: what the nodes below express.
+Vec3d rotateZ(const Vec3d& p, double degrees) {
+  const double a = degrees * M_PI / 180;
+  return {std::cos(a) * p[0] - std::sin(a) * p[1], std::sin(a) * p[0] + std::cos(a) * p[1], p[2]};
+}
+
+// A frame is what a viewer shows: each mesh node's mesh moved by its node's transform and its
+// parents' (translation, rotation, scale or matrix), normals turned with it, front faces kept
+// under a mirroring transform.
+TEST(Gltf, NodeTransformsAreApplied) {
+  const Mesh tet = tetrahedron();
+  nlohmann::json j = nlohmann::json::parse(formatGltf(tet, GltfContainer::kGltf));
+  const double h = std::sqrt(0.5);
+  j["nodes"] = {{{"children", {1}},
+                 {"translation", {1, 2, 3}},
+                 {"rotation", {0, 0, h, h}},
+                 {"scale", {2, 2, 2}}},
+                {{"mesh", 0}, {"translation", {0, 0, 1}}}};
+  j["scenes"] = {{{"nodes", {0}}}};
+  const Mesh moved = frameOf(j);
+  ASSERT_EQ(moved.positions.size(), 4u);
+  for (size_t v = 0; v < 4; ++v) {
+    const Vec3d p = tet.positions[v];
+    const Vec3d r = rotateZ({2 * p[0], 2 * p[1], 2 * (p[2] + 1)}, 90);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(moved.positions[v][c], r[c] + (c + 1.0), 1e-12) << v;
+    const Vec3d n = rotateZ(
+        {tet.attributes.normals[v][0], tet.attributes.normals[v][1], tet.attributes.normals[v][2]},
+        90);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(moved.attributes.normals[v][c], n[c], 1e-6) << v;
+  }
+  EXPECT_EQ(moved.triangles, tet.triangles);
+  // The same as one matrix (column-major) gives the same frame.
+  j["nodes"][0].erase("translation");
+  j["nodes"][0].erase("rotation");
+  j["nodes"][0].erase("scale");
+  j["nodes"][0]["matrix"] = {0, 2, 0, 0, -2, 0, 0, 0, 0, 0, 2, 0, 1, 2, 3, 1};
+  const Mesh matrix = frameOf(j);
+  for (size_t v = 0; v < 4; ++v)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(matrix.positions[v][c], moved.positions[v][c], 1e-12);
+  // A mirror: x negated, each triangle's last two corners swapped (the side that faced the
+  // viewer still does), normals mirrored.
+  j["nodes"] = {{{"mesh", 0}, {"scale", {-1, 1, 1}}}};
+  const Mesh mirrored = frameOf(j);
+  for (size_t v = 0; v < 4; ++v) {
+    EXPECT_EQ(mirrored.positions[v][0], -tet.positions[v][0]);
+    EXPECT_FLOAT_EQ(mirrored.attributes.normals[v][0], -tet.attributes.normals[v][0]);
+  }
+  for (size_t i = 0; i < tet.triangles.size(); ++i)
+    EXPECT_EQ(mirrored.triangles[i],
+              (Triangle{tet.triangles[i][0], tet.triangles[i][2], tet.triangles[i][1]}));
+  // Identity transforms leave the file's coordinates exactly as they are.
+  j["nodes"] = {{{"mesh", 0}, {"translation", {0, 0, 0}}, {"rotation", {0, 0, 0, 1}}}};
+  expectSame(tet, frameOf(j));
+}
+
+// The default scene's trees only: a node outside them is not shown, a mesh used by two nodes
+// is shown twice, a node scaled to 0 0 0 hides its subtree; errors for what is not a tree, a
+// skin, a projective matrix, a missing scene.
+TEST(Gltf, SceneTreesAreWhatIsShown) {
+  const Mesh tet = tetrahedron();
+  nlohmann::json j = nlohmann::json::parse(formatGltf(tet, GltfContainer::kGltf));
+  j["nodes"] = {{{"mesh", 0}, {"translation", {10, 0, 0}}},
+                {{"mesh", 0}},
+                {{"children", {3}}, {"scale", {0, 0, 0}}},
+                {{"mesh", 0}},
+                {{"mesh", 0}, {"translation", {5, 5, 5}}}};
+  j["scenes"] = {{{"nodes", {4}}}, {{"nodes", {0, 1, 2}}}};
+  j["scene"] = 1;
+  const Mesh two = frameOf(j);
+  ASSERT_EQ(two.positions.size(), 8u);
+  for (size_t v = 0; v < 4; ++v) {
+    EXPECT_EQ(two.positions[v][0], tet.positions[v][0] + 10);
+    EXPECT_EQ(two.positions[4 + v], tet.positions[v]);
+  }
+  ASSERT_EQ(two.triangles.size(), 8u);
+  EXPECT_EQ(two.triangles[4], (Triangle{4, 6, 5}));
+  // Without scenes: the nodes that are no node's child (0, 1, 2, 4; 3 is hidden by 2).
+  j.erase("scenes");
+  j.erase("scene");
+  EXPECT_EQ(frameOf(j).positions.size(), 12u);
+  auto err = [](const nlohmann::json& bad) { return errorOf([&] { frameOf(bad); }); };
+  nlohmann::json twice = j;
+  twice["scenes"] = {{{"nodes", {0, 2}}}};
+  twice["nodes"][2]["children"] = {3, 0};
+  EXPECT_NE(
+      err(twice).find("t.gltf: node 0 is reached twice from the scene (nodes must form trees)"),
+      std::string::npos)
+      << err(twice);
+  nlohmann::json loop = j;
+  loop["scenes"] = {{{"nodes", {2}}}};
+  loop["nodes"][3]["children"] = {2};
+  EXPECT_NE(err(loop).find("node 2 is reached twice"), std::string::npos) << err(loop);
+  nlohmann::json skin = j;
+  skin["nodes"][1]["skin"] = 0;
+  skin["skins"] = {{{"joints", {0}}}};
+  EXPECT_NE(err(skin).find("t.gltf: node 1: a skinned mesh (skin 0) is not read"),
+            std::string::npos)
+      << err(skin);
+  nlohmann::json projective = j;
+  projective["nodes"][1]["matrix"] = {1, 0, 0, 1, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  EXPECT_NE(err(projective).find("node 1: matrix is not affine"), std::string::npos)
+      << err(projective);
+  nlohmann::json noScene = j;
+  noScene["scenes"] = {{{"nodes", {0}}}};
+  noScene["scene"] = 3;
+  EXPECT_NE(err(noScene).find("scene 3 (the default scene) does not exist"), std::string::npos)
+      << err(noScene);
+  nlohmann::json missing = j;
+  missing["scenes"] = {{{"nodes", {0, 9}}}};
+  EXPECT_NE(err(missing).find("the scene names node 9, which does not exist"), std::string::npos)
+      << err(missing);
+}
+
+// Node animations are frames too: translation (LINEAR), rotation (LINEAR: spherical), at the
+// merged key times; a node with a matrix cannot be animated.
+TEST(Gltf, NodeAnimationsMoveTheFrames) {
+  const Mesh tet = tetrahedron();
+  nlohmann::json j = nlohmann::json::parse(formatGltf(tet, GltfContainer::kGltf));
+  const double h = std::sqrt(0.5);
+  const int t01 = addFloatAccessor(j, {0, 1}, "SCALAR", 2);
+  const int moves = addFloatAccessor(j, {0, 0, 0, 2, 0, 0}, "VEC3", 2);
+  const int t02 = addFloatAccessor(j, {0, 2}, "SCALAR", 2);
+  const int turns = addFloatAccessor(
+      j, {0, 0, 0, 1, 0, 0, static_cast<float>(h), static_cast<float>(h)}, "VEC4", 2);
+  j["animations"] = {{{"samplers",
+                       {{{"input", t01}, {"output", moves}, {"interpolation", "LINEAR"}},
+                        {{"input", t02}, {"output", turns}, {"interpolation", "LINEAR"}}}},
+                      {"channels",
+                       {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}},
+                        {{"sampler", 1}, {"target", {{"node", 0}, {"path", "rotation"}}}}}}}};
+  const std::string text = j.dump();
+  const GltfFile file(std::vector<uint8_t>(text.begin(), text.end()), "a.gltf");
+  ASSERT_EQ(file.frameCount(), 3u);  // t = 0, 1, 2
+  const double degrees[3] = {0, 45, 90}, shift[3] = {0, 2, 2};
+  for (size_t k = 0; k < 3; ++k) {
+    const Mesh f = file.frame(k);
+    for (size_t v = 0; v < 4; ++v) {
+      const Vec3d r = rotateZ(tet.positions[v], degrees[k]);
+      EXPECT_NEAR(f.positions[v][0], r[0] + shift[k], 1e-6) << k << " " << v;
+      EXPECT_NEAR(f.positions[v][1], r[1], 1e-6) << k << " " << v;
+      EXPECT_NEAR(f.positions[v][2], r[2], 1e-6) << k << " " << v;
+    }
+  }
+  j["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  EXPECT_NE(errorOf([&] { frameOf(j); })
+                .find("animation 0 channel 0: node 0 has a matrix, and its translation cannot be "
+                      "animated"),
+            std::string::npos)
+      << errorOf([&] { frameOf(j); });
+}
+
+// KHR_mesh_quantization positions (SHORT, 8-byte stride) without indices: 6 vertices in 48
+// bytes are read (a bound of 12 bytes per vertex refused them).
+TEST(Gltf, QuantizedPositionsWithoutIndices) {
+  std::string bytes(48, '\0');
+  const int16_t p[6][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 0}};
+  for (int v = 0; v < 6; ++v)
+    std::memcpy(&bytes[8 * v], p[v], 6);
+  nlohmann::json j = {
+      {"asset", {{"version", "2.0"}}},
+      {"extensionsUsed", {"KHR_mesh_quantization"}},
+      {"extensionsRequired", {"KHR_mesh_quantization"}},
+      {"buffers",
+       {{{"byteLength", 48}, {"uri", "data:application/octet-stream;base64," + base64(bytes)}}}},
+      {"bufferViews", {{{"buffer", 0}, {"byteLength", 48}, {"byteStride", 8}}}},
+      {"accessors",
+       {{{"bufferView", 0},
+         {"componentType", 5122},
+         {"count", 6},
+         {"type", "VEC3"},
+         {"min", {0, 0, 0}},
+         {"max", {1, 1, 0}}}}},
+      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}}},
+      {"nodes", {{{"mesh", 0}}}},
+      {"scenes", {{{"nodes", {0}}}}}};
+  const Mesh m = frameOf(j);
+  ASSERT_EQ(m.positions.size(), 6u);
+  EXPECT_EQ(m.positions[3], (Vec3d{1, 1, 0}));
+  EXPECT_EQ(m.triangles, (std::vector<Triangle>{{0, 1, 2}, {3, 4, 5}}));
 }
 
 // ---- Through the apps ----
@@ -546,6 +776,28 @@ TEST(FormatsApps, MorphTargetGlbAsEncoderInput) {
                 .exitCode,
             0);
   EXPECT_EQ(readPly(dir.file("r0006.ply")).positions, readObj(dir.file("r0006.obj")).positions);
+}
+
+// A sequence file's frames are named by their keyframe in the encoder's messages (one file
+// holds them all): here a GOM whose frames change connectivity at keyframe 3 (FirstFrame 1).
+TEST(FormatsApps, SequenceFileMessagesNameTheKeyframe) {
+  test::TempDir dir("formats-keyframe-names");
+  std::vector<Mesh> frames = test::wobblingSphere(1, 3);
+  for (const Mesh& m : test::waveSheet(4, 3, 2))
+    frames.push_back(m);
+  GltfAnimationWriter writer(25.0);
+  for (const Mesh& f : frames)
+    writer.add(f);
+  test::writeText(dir.file("seq.glb"), writer.finish());
+  const test::CommandResult enc =
+      test::run(dir, kBin + "/3dvo-enc",
+                {"--InputMeshPattern=seq.glb", "--FirstFrame=1", "--PMeshMode=d3dmc", "--GOMSize=4",
+                 "--GridBits=12", "-o", "x.3dvo"});
+  EXPECT_EQ(enc.exitCode, 1);
+  EXPECT_NE(enc.err.find("3dvo-enc: error: seq.glb keyframe 3: 12 vertices, but the GOM's first "
+                         "frame (seq.glb keyframe 1) has 42"),
+            std::string::npos)
+      << enc.err;
 }
 
 // 3dvo-metrics reads PLY and glTF frames too: the decoded frames as binary PLY (double) against

@@ -251,18 +251,114 @@ float toFloat(double v) {
   return static_cast<float>(v);
 }
 
+// ---- Node transforms ----
+
+// An affine transform: rows of [A | t], x' = A x + t.
+struct Affine {
+  double m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+
+  bool identity() const {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c)
+        if (m[r][c] != (r == c ? 1.0 : 0.0)) return false;
+    return true;
+  }
+  Affine operator*(const Affine& b) const {
+    Affine out;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c)
+        out.m[r][c] = m[r][0] * b.m[0][c] + m[r][1] * b.m[1][c] + m[r][2] * b.m[2][c] +
+                      (c == 3 ? m[r][3] : 0.0);
+    return out;
+  }
+  Vec3d point(const Vec3d& p) const {
+    Vec3d out;
+    for (int r = 0; r < 3; ++r)
+      out[r] = m[r][0] * p[0] + m[r][1] * p[1] + m[r][2] * p[2] + m[r][3];
+    return out;
+  }
+  double determinant() const {
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  }
+  // A normal's direction after the transform: the inverse transpose of A, here its cofactor
+  // matrix (det(A) times it) with det's sign, then normalised (a zero normal stays zero).
+  Vec3f normal(const Vec3f& n) const {
+    auto cof = [&](int r, int c) {
+      const int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+      return m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1];
+    };
+    const double sign = determinant() < 0 ? -1.0 : 1.0;
+    double out[3], length = 0;
+    for (int r = 0; r < 3; ++r) {
+      out[r] = sign * (cof(r, 0) * n[0] + cof(r, 1) * n[1] + cof(r, 2) * n[2]);
+      length += out[r] * out[r];
+    }
+    length = std::sqrt(length);
+    if (!(length > 0)) return {0, 0, 0};
+    return {toFloat(out[0] / length), toFloat(out[1] / length), toFloat(out[2] / length)};
+  }
+};
+
+// glTF's node transform: its matrix (column-major), else T * R * S (rotation a unit quaternion
+// x, y, z, w).
+Affine nodeTransform(const std::vector<double>& matrix, const std::vector<double>& t,
+                     const std::vector<double>& q, const std::vector<double>& s) {
+  Affine a;
+  if (matrix.size() == 16) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c)
+        a.m[r][c] = matrix[static_cast<size_t>(4 * c + r)];
+    return a;
+  }
+  if (q.size() == 4) {
+    const double x = q[0], y = q[1], z = q[2], w = q[3];
+    const double r[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
+                            {2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
+                            {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        a.m[i][j] = r[i][j];
+  }
+  if (s.size() == 3)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        a.m[i][j] *= s[static_cast<size_t>(j)];
+  if (t.size() == 3)
+    for (int i = 0; i < 3; ++i)
+      a.m[i][3] = t[static_cast<size_t>(i)];
+  return a;
+}
+
+// q scaled to unit length (quaternions are normalised before use, as glTF viewers do).
+std::vector<double> unitQuaternion(std::vector<double> q) {
+  const double length = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  for (double& c : q)
+    c /= length;
+  return q;
+}
+
 }  // namespace
 
 struct GltfFile::Impl {
   std::string name;
   tinygltf::Model model;
-  uint64_t inputBytes = 0;     // the file's bytes
-  uint64_t bufferBytes = 0;    // all buffers' bytes
-  std::vector<int> meshNodes;  // nodes with a mesh; without nodes, -1 - mesh index
+  uint64_t inputBytes = 0;   // the file's bytes
+  uint64_t bufferBytes = 0;  // all buffers' bytes
+  // The scene's nodes, depth first from its root nodes in the order listed (children in
+  // order): each node once, its parent instance before it (-1 for a root).
+  struct Instance {
+    int node;
+    int parent;
+  };
+  std::vector<Instance> instances;
+  std::vector<int> meshNodes;  // instances with a mesh; without nodes, -1 - mesh index
   bool animated = false;
   std::vector<float> times;
-  std::map<int, std::vector<float>> inputs;         // sampler input accessor -> key times
-  std::map<int, int> weightsSampler, scaleSampler;  // node -> sampler of animation 0
+  std::map<int, std::vector<float>> inputs;  // sampler input accessor -> key times
+  // node -> sampler of animation 0, per animated property
+  std::map<int, int> weightsSampler, scaleSampler, translationSampler, rotationSampler;
 
   // A primitive's TEXCOORD_0 (float, or normalized unsigned byte or short) for its `count`
   // vertices, appended to `uvs`.
@@ -312,6 +408,10 @@ struct GltfFile::Impl {
   }
 
   [[noreturn]] void fail(const std::string& what) const { throw Error(name + ": " + what); }
+  // "frame k: " in a sequence file's messages, nothing in a still file's.
+  std::string frameLabel(size_t k) const {
+    return animated ? "frame " + std::to_string(k) + ": " : std::string();
+  }
 
   View view(int index, const std::string& what) const {
     if (index < 0 || static_cast<size_t>(index) >= model.accessors.size())
@@ -348,6 +448,83 @@ struct GltfFile::Impl {
     return v;
   }
 
+  // The mesh of meshNodes' entry n.
+  int meshOf(int n) const {
+    return n < 0 ? -1 - n : model.nodes[static_cast<size_t>(instances[size_t(n)].node)].mesh;
+  }
+
+  // instances and meshNodes: the default scene's node trees (scene 0 when the file names none;
+  // without scenes, every node that is no node's child, in node order).
+  void loadScene() {
+    const size_t numNodes = model.nodes.size();
+    if (numNodes == 0) return;
+    std::vector<int> roots;
+    if (!model.scenes.empty()) {
+      const int scene = model.defaultScene < 0 ? 0 : model.defaultScene;
+      if (static_cast<size_t>(scene) >= model.scenes.size())
+        fail("scene " + std::to_string(scene) + " (the default scene) does not exist");
+      roots = model.scenes[static_cast<size_t>(scene)].nodes;
+    } else {
+      std::vector<uint8_t> child(numNodes, 0);
+      for (const tinygltf::Node& node : model.nodes)
+        for (int c : node.children)
+          if (c >= 0 && static_cast<size_t>(c) < numNodes) child[static_cast<size_t>(c)] = 1;
+      for (size_t n = 0; n < numNodes; ++n)
+        if (!child[n]) roots.push_back(static_cast<int>(n));
+    }
+    // Depth first without recursion (a chain of nodes may be as long as the file allows).
+    std::vector<uint8_t> reached(numNodes, 0);
+    std::vector<Instance> stack;
+    for (auto it = roots.rbegin(); it != roots.rend(); ++it)
+      stack.push_back({*it, -1});
+    while (!stack.empty()) {
+      const Instance at = stack.back();
+      stack.pop_back();
+      if (at.node < 0 || static_cast<size_t>(at.node) >= numNodes)
+        fail((at.parent < 0 ? std::string("the scene")
+                            : "node " + std::to_string(instances[size_t(at.parent)].node)) +
+             " names node " + std::to_string(at.node) + ", which does not exist");
+      if (reached[static_cast<size_t>(at.node)])
+        fail("node " + std::to_string(at.node) +
+             " is reached twice from the scene (nodes must form trees)");
+      reached[static_cast<size_t>(at.node)] = 1;
+      const tinygltf::Node& node = model.nodes[static_cast<size_t>(at.node)];
+      checkTransform(node, at.node);
+      const int index = static_cast<int>(instances.size());
+      instances.push_back(at);
+      if (node.mesh >= 0) {
+        if (static_cast<size_t>(node.mesh) >= model.meshes.size())
+          fail("node " + std::to_string(at.node) + ": mesh " + std::to_string(node.mesh) +
+               " does not exist");
+        if (node.skin >= 0)
+          fail("node " + std::to_string(at.node) + ": a skinned mesh (skin " +
+               std::to_string(node.skin) + ") is not read");
+        meshNodes.push_back(index);
+      }
+      for (auto it = node.children.rbegin(); it != node.children.rend(); ++it)
+        stack.push_back({*it, index});
+    }
+  }
+
+  // A node's matrix or translation, rotation and scale: as many finite values as glTF says.
+  void checkTransform(const tinygltf::Node& node, int n) const {
+    const std::string what = "node " + std::to_string(n);
+    auto values = [&](const std::vector<double>& v, size_t count, const char* name) {
+      if (!v.empty() && v.size() != count)
+        fail(what + ": " + name + " has " + std::to_string(v.size()) + " values, not " +
+             std::to_string(count));
+      for (double x : v)
+        if (!std::isfinite(x)) fail(what + ": " + name + " is not finite");
+    };
+    values(node.matrix, 16, "matrix");
+    values(node.translation, 3, "translation");
+    values(node.rotation, 4, "rotation");
+    values(node.scale, 3, "scale");
+    if (!node.matrix.empty() && (node.matrix[3] != 0 || node.matrix[7] != 0 ||
+                                 node.matrix[11] != 0 || node.matrix[15] != 1))
+      fail(what + ": matrix is not affine (its last row is not 0 0 0 1)");
+  }
+
   void load() {
     // Extensions that change what accessors hold (Draco or meshopt compression) are not read;
     // quantized positions (KHR_mesh_quantization) are plain accessors of integer types.
@@ -356,13 +533,7 @@ struct GltfFile::Impl {
         fail("the file requires the extension " + e + ", which is not read");
     for (const tinygltf::Buffer& b : model.buffers)
       bufferBytes += b.data.size();
-    for (size_t n = 0; n < model.nodes.size(); ++n) {
-      const int mesh = model.nodes[n].mesh;
-      if (mesh < 0) continue;
-      if (static_cast<size_t>(mesh) >= model.meshes.size())
-        fail("node " + std::to_string(n) + ": mesh " + std::to_string(mesh) + " does not exist");
-      meshNodes.push_back(static_cast<int>(n));
-    }
+    loadScene();
     if (model.nodes.empty())
       for (size_t m = 0; m < model.meshes.size(); ++m)
         meshNodes.push_back(-1 - static_cast<int>(m));
@@ -397,8 +568,19 @@ struct GltfFile::Impl {
         }
         inputs.emplace(s.input, std::move(t));
       }
-      if (ch.target_path == "weights") weightsSampler[ch.target_node] = ch.sampler;
-      if (ch.target_path == "scale") scaleSampler[ch.target_node] = ch.sampler;
+      std::map<int, int>* samplers = ch.target_path == "weights"       ? &weightsSampler
+                                     : ch.target_path == "scale"       ? &scaleSampler
+                                     : ch.target_path == "translation" ? &translationSampler
+                                     : ch.target_path == "rotation"    ? &rotationSampler
+                                                                       : nullptr;
+      if (samplers == nullptr) continue;  // a property no frame shows (e.g. an extension's)
+      if (ch.target_node < 0 || static_cast<size_t>(ch.target_node) >= model.nodes.size())
+        fail(what + ": node " + std::to_string(ch.target_node) + " does not exist");
+      if (ch.target_path != "weights" &&
+          !model.nodes[static_cast<size_t>(ch.target_node)].matrix.empty())
+        fail(what + ": node " + std::to_string(ch.target_node) + " has a matrix, and its " +
+             ch.target_path + " cannot be animated");
+      (*samplers)[ch.target_node] = ch.sampler;
     }
     for (const auto& [index, t] : inputs)
       times.insert(times.end(), t.begin(), t.end());
@@ -407,9 +589,9 @@ struct GltfFile::Impl {
     if (times.empty()) fail("animation 0 has no channels");
     // The work of the frames: keyframes x the vertices a frame can have (and its mesh nodes,
     // visited even when empty), bounded by the input.
-    uint64_t vertices = meshNodes.size();
+    uint64_t vertices = meshNodes.size() + instances.size();
     for (int n : meshNodes) {
-      const int m = n < 0 ? -1 - n : model.nodes[static_cast<size_t>(n)].mesh;
+      const int m = meshOf(n);
       for (const tinygltf::Primitive& prim : model.meshes[static_cast<size_t>(m)].primitives) {
         const auto pos = prim.attributes.find("POSITION");
         if (pos != prim.attributes.end() && pos->second >= 0 &&
@@ -425,7 +607,10 @@ struct GltfFile::Impl {
   }
 
   // The value of sampler `s` of animation 0 at time t: `width` values per key.
-  std::vector<double> sample(int s, float t, size_t width, const std::string& what) const {
+  // A rotation (`rotation`) is interpolated spherically (LINEAR: slerp along the shorter arc;
+  // CUBICSPLINE: the spline, normalised).
+  std::vector<double> sample(int s, float t, size_t width, const std::string& what,
+                             bool rotation = false) const {
     const tinygltf::AnimationSampler& sampler =
         model.animations[0].samplers[static_cast<size_t>(s)];
     const std::vector<float>& keys = inputs.at(sampler.input);
@@ -449,6 +634,25 @@ struct GltfFile::Impl {
     const size_t k = i - 1;
     const double dt = double{keys[k + 1]} - keys[k];
     const double u = (t - keys[k]) / dt;
+    if (rotation && !cubic) {
+      double a[4], b[4], dot = 0;
+      for (size_t c = 0; c < 4; ++c) {
+        a[c] = value(k, c);
+        b[c] = value(k + 1, c);
+        dot += a[c] * b[c];
+      }
+      const double flip = dot < 0 ? -1.0 : 1.0;
+      dot *= flip;
+      const double theta = std::acos(std::min(dot, 1.0));
+      double wa = 1 - u, wb = u;
+      if (theta > 1e-6) {
+        wa = std::sin((1 - u) * theta) / std::sin(theta);
+        wb = std::sin(u * theta) / std::sin(theta);
+      }
+      for (size_t c = 0; c < 4; ++c)
+        v[c] = wa * a[c] + flip * wb * b[c];
+      return v;
+    }
     for (size_t c = 0; c < width; ++c) {
       if (!cubic) {
         v[c] = value(k, c) * (1 - u) + value(k + 1, c) * u;
@@ -466,29 +670,58 @@ struct GltfFile::Impl {
 
   Mesh frame(size_t k) const {
     const float t = animated ? times.at(k) : 0.0f;
+    // Every instance's transform at time t, parents first (the scene's order has them first),
+    // and whether it is hidden: a node whose scale is 0 0 0 hides its subtree.
+    std::vector<Affine> world(instances.size());
+    std::vector<uint8_t> hidden(instances.size(), 0);
+    for (size_t i = 0; i < instances.size(); ++i) {
+      const int n = instances[i].node, parent = instances[i].parent;
+      const tinygltf::Node& node = model.nodes[static_cast<size_t>(n)];
+      const std::string what = "node " + std::to_string(n);
+      auto animatedOr = [&](const std::map<int, int>& samplers, const std::vector<double>& still,
+                            size_t width, const char* name) {
+        const auto it = animated ? samplers.find(n) : samplers.end();
+        if (it == samplers.end()) return still;
+        return sample(it->second, t, width, what + " " + name, width == 4);
+      };
+      const std::vector<double> scale = animatedOr(scaleSampler, node.scale, 3, "scale");
+      std::vector<double> rotation = animatedOr(rotationSampler, node.rotation, 4, "rotation");
+      const std::vector<double> translation =
+          animatedOr(translationSampler, node.translation, 3, "translation");
+      if (rotation.size() == 4) {
+        const double length2 = rotation[0] * rotation[0] + rotation[1] * rotation[1] +
+                               rotation[2] * rotation[2] + rotation[3] * rotation[3];
+        if (!(length2 > 0) || !std::isfinite(length2))
+          fail(frameLabel(k) + what + ": rotation is not a quaternion of finite, nonzero length");
+        rotation = unitQuaternion(std::move(rotation));
+      }
+      hidden[i] = (parent >= 0 && hidden[static_cast<size_t>(parent)]) ||
+                  (scale.size() == 3 && scale[0] == 0 && scale[1] == 0 && scale[2] == 0);
+      const Affine local = nodeTransform(node.matrix, translation, rotation, scale);
+      world[i] = parent < 0 ? local : world[static_cast<size_t>(parent)] * local;
+    }
     struct Shown {
       int mesh;
       std::vector<double> weights;
+      Affine transform;
     };
     std::vector<Shown> shown;
     for (int n : meshNodes) {
       if (n < 0) {
         const tinygltf::Mesh& m = model.meshes[static_cast<size_t>(-1 - n)];
-        shown.push_back({-1 - n, m.weights});
+        shown.push_back({-1 - n, m.weights, Affine()});
         continue;
       }
-      const tinygltf::Node& node = model.nodes[static_cast<size_t>(n)];
-      const std::string what = "node " + std::to_string(n);
-      std::vector<double> scale = node.scale;
-      if (animated && scaleSampler.count(n))
-        scale = sample(scaleSampler.at(n), t, 3, what + " scale");
-      if (scale.size() == 3 && scale[0] == 0 && scale[1] == 0 && scale[2] == 0) continue;
+      if (hidden[static_cast<size_t>(n)]) continue;
+      const int nodeIndex = instances[static_cast<size_t>(n)].node;
+      const tinygltf::Node& node = model.nodes[static_cast<size_t>(nodeIndex)];
+      const std::string what = "node " + std::to_string(nodeIndex);
       const tinygltf::Mesh& m = model.meshes[static_cast<size_t>(node.mesh)];
       const size_t targets = m.primitives.empty() ? 0 : m.primitives[0].targets.size();
       std::vector<double> weights = !node.weights.empty() ? node.weights : m.weights;
-      if (animated && weightsSampler.count(n))
-        weights = sample(weightsSampler.at(n), t, targets, what + " weights");
-      shown.push_back({node.mesh, std::move(weights)});
+      if (animated && weightsSampler.count(nodeIndex))
+        weights = sample(weightsSampler.at(nodeIndex), t, targets, what + " weights");
+      shown.push_back({node.mesh, std::move(weights), world[static_cast<size_t>(n)]});
     }
     // The frame's size first, bounded by the buffers' bytes (shared data cannot inflate it).
     uint64_t vertices = 0, corners = 0;
@@ -522,14 +755,16 @@ struct GltfFile::Impl {
             moved += model.accessors[static_cast<size_t>(tp->second)].count;
         }
     }
-    if (moved * 12 > bufferBytes)
-      fail("frame " + std::to_string(k) + ": its morph targets move " + std::to_string(moved) +
-           " vertices, more than its buffers' " + std::to_string(bufferBytes) +
-           " bytes hold (targets sharing their data)");
-    if (vertices * 12 > bufferBytes || corners > bufferBytes)
-      fail("frame " + std::to_string(k) + ": " + std::to_string(vertices) + " vertices and " +
-           std::to_string(corners / 3) + " triangles, more than its buffers' " +
-           std::to_string(bufferBytes) + " bytes hold (meshes sharing their data)");
+    const uint64_t fileBytes = inputBytes + bufferBytes;
+    if (moved > fileBytes)
+      fail(frameLabel(k) + "its morph targets move " + std::to_string(moved) +
+           " vertices, more than one per byte of the file and its buffers (" +
+           std::to_string(fileBytes) + " bytes; targets sharing their data)");
+    if (vertices > fileBytes || corners > 3 * fileBytes)
+      fail(frameLabel(k) + std::to_string(vertices) + " vertices and " +
+           std::to_string(corners / 3) +
+           " triangles, more than one of each per byte of the file and its buffers (" +
+           std::to_string(fileBytes) + " bytes; meshes used by many nodes, or sharing their data)");
     Mesh mesh;
     mesh.positions.reserve(vertices);
     mesh.triangles.reserve(corners / 3);
@@ -574,6 +809,10 @@ struct GltfFile::Impl {
             for (size_t c = 0; c < 3; ++c)
               mesh.positions[base + i][c] += w * d.get(i, c);
         }
+        const bool moves = !s.transform.identity();
+        if (moves)
+          for (size_t i = base; i < mesh.positions.size(); ++i)
+            mesh.positions[i] = s.transform.point(mesh.positions[i]);
         for (size_t i = base; i < mesh.positions.size(); ++i)
           for (double c : mesh.positions[i])
             if (!std::isfinite(c))
@@ -582,7 +821,18 @@ struct GltfFile::Impl {
               fail(what + ": vertex " + std::to_string(i - base) + ": coordinate " +
                    coordinateText(c) + kBeyondCoordinateRange);
         if (uvs) readUvs(prim, v.count, what, mesh.attributes.uvs);
-        if (normals) readNormals(prim, v.count, s.weights, what, mesh.attributes.normals);
+        if (normals) {
+          const size_t first = mesh.attributes.normals.size();
+          readNormals(prim, v.count, s.weights, what, mesh.attributes.normals);
+          if (moves)
+            for (size_t i = first; i < mesh.attributes.normals.size(); ++i)
+              mesh.attributes.normals[i] = s.transform.normal(mesh.attributes.normals[i]);
+        }
+        // A mirroring transform turns the triangles' front faces round (glTF: the winding
+        // order follows the determinant's sign); two corners are swapped to keep the side
+        // that faces the viewer.
+        const bool mirrored = moves && s.transform.determinant() < 0;
+        const size_t firstTriangle = mesh.triangles.size();
         if (prim.indices >= 0) {
           const View ix = view(prim.indices, what + " indices");
           if (ix.components != 1 || ix.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
@@ -612,11 +862,14 @@ struct GltfFile::Impl {
                                       static_cast<uint32_t>(base + i + 1),
                                       static_cast<uint32_t>(base + i + 2)});
         }
+        if (mirrored)
+          for (size_t i = firstTriangle; i < mesh.triangles.size(); ++i)
+            std::swap(mesh.triangles[i][1], mesh.triangles[i][2]);
       }
     }
     if (uvs) mesh.attributes.uvTriangles = mesh.triangles;  // per vertex
     if (normals) mesh.attributes.normalTriangles = mesh.triangles;
-    const std::string frameName = animated ? "frame " + std::to_string(k) + ": " : "";
+    const std::string frameName = frameLabel(k);
     if (mesh.positions.empty()) fail(frameName + "no vertices");
     if (mesh.triangles.empty()) fail(frameName + "no faces");
     bool proper = false;

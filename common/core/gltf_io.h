@@ -5,14 +5,19 @@
 // A file is read as a sequence of frames (docs/user-guide.md, "Mesh files"):
 // - the frames are the keyframe times of the file's first animation (all its channels' input
 //   times, merged and sorted); a file without an animation is one frame;
-// - frame k is every node that has a mesh, in node order, that is visible at time k (its scale,
-//   animated or not, is not (0, 0, 0)), each mesh's triangle primitives in order, with the
-//   mesh's morph targets applied with the node's weights at that time (animated by the
+// - frame k is what a viewer shows of the default scene at time k (scene 0 when the file names
+//   none; without scenes, every node that is no node's child): its node trees depth first in
+//   the order listed, every node with a mesh giving the mesh's triangle primitives in order,
+//   with the mesh's morph targets applied with the node's weights at that time (animated by the
 //   animation's "weights" channel: STEP, LINEAR or CUBICSPLINE; else the node's or the mesh's
-//   weights). Positions are the mesh's own coordinates: node transforms other than this
-//   visibility are not applied. TEXCOORD_0 and NORMAL become the frame's per-vertex attributes
-//   (mesh.h) when every primitive shown has them (normals with the morph targets' NORMAL
-//   displacements applied likewise). A file without nodes is its meshes, in order.
+//   weights), then moved by the node's transform and its parents' (matrix, or translation,
+//   rotation and scale, each possibly animated; rotations interpolated spherically). A node
+//   whose scale is (0, 0, 0) hides its subtree; a mirroring transform swaps each triangle's last
+//   two corners (its front stays the side a viewer sees); an identity transform changes
+//   nothing. Skinned meshes are refused. TEXCOORD_0 and NORMAL become the frame's per-vertex
+//   attributes (mesh.h) when every primitive shown has them (normals with the morph targets'
+//   NORMAL displacements applied likewise, then turned with the transform). A file without
+//   nodes is its meshes, in order.
 // So a base mesh with one morph target per frame and a STEP weights animation is a sequence,
 // and so is what writeGltfAnimation writes.
 #pragma once
@@ -33,10 +38,10 @@ namespace tdvo {
 // at most kMaxGltfJsonValues values nested at most kMaxGltfJsonDepth deep (tinygltf's model
 // grows with the number of JSON values, not with their bytes); each buffer's bytes read once
 // (two buffers naming the same file or the same GLB chunk are refused); and a frame's vertices
-// and triangles bounded by the bytes of the buffers (12 bytes per vertex, 1 per index), and the
-// morph-target vertices a frame adds likewise, so that meshes or targets sharing their data
-// cannot make a frame larger, or its work longer, than the file; and keyframes x vertices at
-// most kMaxGltfVertexFramesPerByte per input byte.
+// and triangles at most one of each per byte of the file and its buffers, and the morph-target
+// vertices a frame adds likewise, so that meshes shown by many nodes, or meshes or targets
+// sharing their data, cannot make a frame larger, or its work longer, than the file; and
+// keyframes x vertices at most kMaxGltfVertexFramesPerByte per input byte.
 constexpr size_t kMaxGltfJsonBytes = size_t{1} << 26;
 constexpr size_t kMaxGltfJsonValues = size_t{1} << 18;
 constexpr size_t kMaxGltfJsonDepth = 64;
