@@ -18,6 +18,7 @@
 #include "common/core/ply_io.h"
 #include "common/core/sequence.h"
 #include "common/core/tiny_gltf_config.h"
+#include "common/core/warnings.h"
 #include "tests/test_support.h"
 
 namespace tdvo {
@@ -153,6 +154,35 @@ TEST(Ply, MalformedFilesNameTheirPlace) {
   // A header declaring more vertices than the limit.
   EXPECT_NE(err("ply\nformat ascii 1.0\nelement vertex 99999999999\n").find("x.ply:3: more than"),
             std::string::npos);
+}
+
+// What a PLY file holds beyond positions, texture coordinates, normals and vertex indices is
+// said in one warning (properties of vertex and face, other elements with records); tiny and
+// '+'-signed numbers are numbers.
+TEST(Ply, WhatIsNotReadIsSaid) {
+  std::vector<std::string> said;
+  const WarningHandler before =
+      setWarningHandler([&](const std::string& message) { said.push_back(message); });
+  const std::string text =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nproperty uchar red\nproperty uchar green\nproperty float nx\n"
+      "property float ny\nproperty float nz\nelement face 1\n"
+      "property list uchar int vertex_indices\nproperty list uchar float texcoord\n"
+      "element edge 2\nproperty int vertex1\nproperty int vertex2\nelement material 0\n"
+      "property float shine\nend_header\n"
+      "0 0 0 255 0 0 0 1e-50\n+1 0 0 0 255 0 0 1\n0 1 0 0 0 0 0 1\n3 0 1 2 6 0 0 1 0 0 1\n"
+      "0 1\n1 2\n";
+  const Mesh m = parsePly(text, "c.ply");
+  EXPECT_EQ(m.positions[1], (Vec3d{1, 0, 0}));
+  EXPECT_EQ(m.attributes.normals[0], (Vec3f{0, 0, 0}));
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_EQ(said[0],
+            "c.ply: left out (not read): vertex properties red, green; face property texcoord; "
+            "element edge (2 records)");
+  said.clear();
+  parsePly(formatPly(test::wobblingSphere(1, 1)[0], PlyEncoding::kAscii), "plain.ply");
+  EXPECT_TRUE(said.empty());
+  setWarningHandler(before);
 }
 
 // ---- glTF ----

@@ -262,7 +262,22 @@ TEST(ObjIoErrors, BadNumber) {
   EXPECT_EQ(parseError("v 0 0 0\nv 1 0 0\nv 0 1.5.2 0\nf 1 2 3\n"),
             "mesh.obj:3: bad number '1.5.2'");
   EXPECT_EQ(parseError("v 0 0 0\nv x 0 0\n"), "mesh.obj:2: bad number 'x'");
-  EXPECT_EQ(parseError("v 0 0 1e999\n"), "mesh.obj:1: bad number '1e999'");
+  EXPECT_EQ(parseError("v 0 0 1e999\n"),
+            "mesh.obj:1: number '1e999' is beyond ±1e300, 3DVO's coordinate range");
+  EXPECT_EQ(parseError("v 0 0 ++1\n"), "mesh.obj:1: bad number '++1'");
+  EXPECT_EQ(parseError("v 0 0 +-1\n"), "mesh.obj:1: bad number '+-1'");
+}
+
+// Numbers as the C library reads them: a leading '+', and values too small for their type
+// (float texture coordinates and normals, double positions) rounded to 0 or a subnormal.
+TEST(ObjIo, PlusSignsAndTinyNumbersAreNumbers) {
+  const Mesh m = parseObj(
+      "v +1 0 1e-400\nv 1 +1.5e+0 0\nv 0 1 0\nvt 1e-46 +0.5\nvt 0 0\nvt 1 1\n"
+      "f 1/1 2/2 3/3\n",
+      "mesh.obj");
+  EXPECT_EQ(m.positions[0], (Vec3d{1, 0, 0}));
+  EXPECT_EQ(m.positions[1], (Vec3d{1, 1.5, 0}));
+  EXPECT_EQ(m.attributes.uvs[0], (Vec2f{0, 0.5f}));
 }
 
 TEST(ObjIoErrors, NonFiniteNumber) {
@@ -367,6 +382,14 @@ TEST(ObjIo, AttributesLeftOutAreSaid) {
   const Mesh full = parseObj("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n", "full.obj");
   EXPECT_EQ(full.attributes.uvs.size(), 1u);
   EXPECT_TRUE(said.empty());
+  // Vertex colours (or w) after x y z: one warning naming the first such line.
+  const Mesh coloured =
+      parseObj("v 0 0 0\nv 1 0 0 1 0.5 0\nv 0 1 0 0 0 1\nf 1 2 3\n", "coloured.obj");
+  EXPECT_EQ(coloured.positions[1], (Vec3d{1, 0, 0}));
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_EQ(said[0],
+            "coloured.obj:2: values after x y z on 'v' lines (w, or vertex colours) are left out "
+            "(this line and any other)");
   setWarningHandler(before);
 }
 

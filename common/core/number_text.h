@@ -9,6 +9,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <string_view>
+#include <system_error>
+#include <type_traits>
 
 namespace tdvo {
 
@@ -55,5 +58,31 @@ inline std::string formatDouble(double v) {
   return std::string(buffer, r.ptr);
 }
 #endif
+
+// Reads the whole of `token` as a number of type T, as the C library's strtod reads text: an
+// optional sign ('+' too), decimal or scientific digits ("inf" and "nan" included, which the
+// caller judges). A floating-point value smaller than the type can hold rounds to it (to 0 or
+// a subnormal), one larger becomes infinite: only text that is not a number is refused
+// (false). Used by the mesh readers for every number of their text formats.
+template <class T>
+bool parseNumber(std::string_view token, T& value) {
+  if (token.size() > 1 && token[0] == '+' && token[1] != '-' && token[1] != '+')
+    token.remove_prefix(1);
+  const char* const end = token.data() + token.size();
+  const auto [ptr, ec] = std::from_chars(token.data(), end, value);
+  if (ptr != end) return false;
+  if (ec == std::errc()) return true;
+  if constexpr (std::is_floating_point_v<T>) {
+    if (ec == std::errc::result_out_of_range) {
+      const std::string text(token);
+      if constexpr (std::is_same_v<T, float>)
+        value = std::strtof(text.c_str(), nullptr);
+      else
+        value = static_cast<T>(std::strtod(text.c_str(), nullptr));
+      return true;
+    }
+  }
+  return false;
+}
 
 }  // namespace tdvo

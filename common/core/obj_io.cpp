@@ -1,7 +1,5 @@
 #include "common/core/obj_io.h"
 
-#include "common/core/warnings.h"
-
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -9,7 +7,9 @@
 
 #include "common/core/error.h"
 #include "common/core/file_io.h"
+#include "common/core/number_text.h"
 #include "common/core/text_tokens.h"
+#include "common/core/warnings.h"
 
 namespace tdvo {
 
@@ -54,6 +54,10 @@ class ObjParser {
     MeshAttributes& at = mesh_.attributes;
     if (!finishAttribute(uv_, at.uvs.size(), at.uvTriangles)) at.uvs.clear();
     if (!finishAttribute(normal_, at.normals.size(), at.normalTriangles)) at.normals.clear();
+    if (extraVertexValuesLine_ > 0)
+      warn(name_ + ":" + std::to_string(extraVertexValuesLine_) +
+           ": values after x y z on 'v' lines (w, or vertex colours) are left out (this line "
+           "and any other)");
     if (mesh_.positions.empty()) throw Error(name_ + ": no vertices");
     if (mesh_.triangles.empty()) throw Error(name_ + ": no faces");
     // Triangles with a repeated vertex are kept here (the encoder drops them, with a warning),
@@ -114,7 +118,8 @@ class ObjParser {
       if (tokens.size() < 4) fail("vertex needs three coordinates");
       if (mesh_.positions.size() >= kMaxObjVertices)
         fail("more than " + std::to_string(kMaxObjVertices) + " vertices");
-      // Extra values (w, or per-vertex colours) are allowed and ignored.
+      // Extra values (w, or per-vertex colours) are allowed and left out, with a warning.
+      if (tokens.size() > 4 && extraVertexValuesLine_ == 0) extraVertexValuesLine_ = lineNumber_;
       mesh_.positions.push_back({number(tokens[1]), number(tokens[2]), number(tokens[3])});
     } else if (keyword == "vt") {
       // u and v; a third coordinate (w) is allowed and ignored.
@@ -171,20 +176,19 @@ class ObjParser {
 
   double number(std::string_view token) const {
     double value = 0;
-    auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
-    if (ec != std::errc() || ptr != token.data() + token.size())
-      fail("bad number '" + std::string(token) + "'");
-    if (!std::isfinite(value)) fail("non-finite number '" + std::string(token) + "'");
-    if (isBeyondCoordinateRange(value))
+    if (!parseNumber(token, value)) fail("bad number '" + std::string(token) + "'");
+    // Digits too large for a double read as infinite: beyond the range, as 1e301 is.
+    const bool digits = token.find_first_of("iInN") == std::string_view::npos;
+    if (!std::isfinite(value) && !digits)
+      fail("non-finite number '" + std::string(token) + "'");
+    if (!std::isfinite(value) || isBeyondCoordinateRange(value))
       fail("number '" + std::string(token) + "'" + kBeyondCoordinateRange);
     return value;
   }
 
   float floatNumber(std::string_view token) const {
     float value = 0;
-    auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
-    if (ec != std::errc() || ptr != token.data() + token.size())
-      fail("bad number '" + std::string(token) + "'");
+    if (!parseNumber(token, value)) fail("bad number '" + std::string(token) + "'");
     if (!std::isfinite(value)) fail("non-finite number '" + std::string(token) + "'");
     return value;
   }
@@ -281,7 +285,8 @@ class ObjParser {
   size_t lineNumber_ = 0;
   LargestIndex largest_;  // of the vertex indices
   size_t firstFaceLine_ = 0;
-  size_t properTriangles_ = 0;  // triangles with three different vertices
+  size_t extraVertexValuesLine_ = 0;  // the first 'v' line with more than x y z
+  size_t properTriangles_ = 0;        // triangles with three different vertices
   Attribute uv_ = Attribute("texture coordinate");
   Attribute normal_ = Attribute("normal");
   Mesh mesh_;

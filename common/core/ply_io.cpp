@@ -10,7 +10,9 @@
 #include "common/core/error.h"
 #include "common/core/file_io.h"
 #include "common/core/mesh_attributes.h"
+#include "common/core/number_text.h"
 #include "common/core/text_tokens.h"
+#include "common/core/warnings.h"
 
 namespace tdvo {
 
@@ -303,6 +305,7 @@ class PlyParser {
       }
       if (!vertex) failLine(n, "no 'vertex' element: no vertices");
       if (!face) failLine(n, "no 'face' element: no faces");
+      warnLeftOut();
       headerDone_ = true;
       line_ = n;  // body lines are numbered on from the header's
       element_ = 0;
@@ -311,6 +314,29 @@ class PlyParser {
       return;
     }
     failLine(n, "unsupported header statement '" + std::string(keyword) + "'");
+  }
+
+  // What of the file's data is not read (properties of vertices and faces other than those
+  // above, elements other than vertex and face that hold records) is said, in one warning.
+  void warnLeftOut() const {
+    std::string list;
+    for (const Element& e : elements_) {
+      if (e.isVertex || e.isFace) {
+        std::string names;
+        size_t count = 0;
+        for (size_t i = 0; i < e.properties.size(); ++i)
+          if (e.roles[i] == Role::kSkip) {
+            names += (count++ ? ", " : "") + e.properties[i].name;
+          }
+        if (count > 0 && e.count > 0)
+          list += std::string(list.empty() ? "" : "; ") + e.name + " propert" +
+                  (count == 1 ? "y " : "ies ") + names;
+      } else if (e.count > 0) {
+        list += std::string(list.empty() ? "" : "; ") + "element " + e.name + " (" +
+                std::to_string(e.count) + (e.count == 1 ? " record)" : " records)");
+      }
+    }
+    if (!list.empty()) warn(name_ + ": left out (not read): " + list);
   }
 
   // Checks the element declared last, once its properties are known.
@@ -555,9 +581,7 @@ class PlyParser {
 
   int64_t asciiInteger(std::string_view token, Type type) {
     int64_t v = 0;
-    auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
-    if (ec != std::errc() || ptr != token.data() + token.size())
-      failLine(line_, "bad integer '" + std::string(token) + "'");
+    if (!parseNumber(token, v)) failLine(line_, "bad integer '" + std::string(token) + "'");
     const int64_t lo[] = {-128, 0, -32768, 0, INT32_MIN, 0};
     const int64_t hi[] = {127, 255, 32767, 65535, INT32_MAX, UINT32_MAX};
     const size_t k = static_cast<size_t>(type);
@@ -568,17 +592,13 @@ class PlyParser {
 
   float asciiFloat32(std::string_view token) {
     float v = 0;
-    auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
-    if (ec != std::errc() || ptr != token.data() + token.size())
-      failLine(line_, "bad number '" + std::string(token) + "'");
+    if (!parseNumber(token, v)) failLine(line_, "bad number '" + std::string(token) + "'");
     return v;
   }
 
   double asciiFloat(std::string_view token) {
     double v = 0;
-    auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), v);
-    if (ec != std::errc() || ptr != token.data() + token.size())
-      failLine(line_, "bad number '" + std::string(token) + "'");
+    if (!parseNumber(token, v)) failLine(line_, "bad number '" + std::string(token) + "'");
     return v;
   }
 
