@@ -118,7 +118,8 @@ void parseUnit(const uint8_t* at, uint64_t available, uint64_t offset, size_t in
     throw Error(where + ": stream ends inside the unit header (truncated stream)");
   unit.type = at[0];
   unit.size = readU32(at + 1);
-  const std::string typed = where + " (" + unitTypeName(unit.type) + ")";
+  const std::string typed = name + ": unit " + std::to_string(unit.index) + " (" +
+                            unitTypeName(unit.type) + ") at byte " + std::to_string(offset);
   if (unit.size > kMaxUnitSize)
     throw Error(typed + ": unit_size " + std::to_string(unit.size) + " exceeds the 1 GiB limit");
   if (available - kUnitHeaderSize < uint64_t{unit.size} + 4)

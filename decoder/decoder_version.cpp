@@ -7,7 +7,9 @@
 namespace tdvo {
 
 std::vector<std::string> decoderVersionLines() {
-  return {"stream syntax version " + std::to_string(kSyntaxVersion),
+  // The versions the decoder reads (3dvo-enc writes the newest).
+  return {"stream syntax version " + std::to_string(kSyntaxVersion) + " (reads " +
+              std::to_string(kMinSyntaxVersion) + " to " + std::to_string(kSyntaxVersion) + ")",
           std::string("Draco ") + draco::kDracoVersion};
 }
 

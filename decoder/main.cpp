@@ -247,7 +247,7 @@ int main(int argc, char** argv) {
     table.add("MaxTexturePixelsPerByte", maxTexturePixelsPerByte, 0, 1 << 30,
               "refuse a stream whose texture units add up to more camera pixels than this per "
               "stream byte read, or whose camera frames need more memory than the stream read "
-              "so far allows (2^21 + 2 pixels per byte; docs/robustness.md); 0 = no limit");
+              "so far allows (2^21 pixels + 2 per byte read; docs/robustness.md); 0 = no limit");
     table.add("MaxMeshMemoryPerByte", maxMeshMemoryPerByte, 0, 1 << 30,
               "refuse an I mesh whose vertex and face counts need more decoding memory than "
               "40 MiB + this many bytes per stream byte read (Draco allocates from them; "

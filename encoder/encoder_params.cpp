@@ -93,7 +93,7 @@ void EncoderParams::registerOptions(OptionTable& t) {
         "grid units, R in bits; 0 = smallest distortion; -1 = automatic: 0 at "
         "MotionQuantStep 1, else 0.1 * MotionQuantStep^2)");
   t.add("MaxOctreeDepth", maxOctreeDepth, 0, 20,
-        "deepest octree level of the motion clustering (capped at GridBits)");
+        "deepest octree level of the motion clustering (capped at the stream's grid bits)");
   t.section("Keyframes (PMeshMode d3dmc or afxic)");
   t.add("KeyframeCount", keyframeCount, 0, static_cast<int>(kMaxGomFrames),
         "keyframes per GOM, its first and last frame included (2 or more; 1 is an error); the "

@@ -464,8 +464,8 @@ TEST(Units, CorruptedPayloadNamesTheUnit) {
   const size_t secondUnit = 4 + kUnitOverhead + 20;
   stream[secondUnit + kUnitHeaderSize + 3] ^= 0x10;
   EXPECT_EQ(errorOf([&] { readAll(stream, stream.size()); }),
-            "s.3dvo: unit 1 at byte " + std::to_string(secondUnit) +
-                " (GOM_HEADER): CRC mismatch (corrupted stream)");
+            "s.3dvo: unit 1 (GOM_HEADER) at byte " + std::to_string(secondUnit) +
+                ": CRC mismatch (corrupted stream)");
 }
 
 TEST(Units, TruncationAtEveryLength) {
@@ -515,7 +515,7 @@ TEST(Units, HugeUnitSizeDoesNotAllocate) {
     });
     EXPECT_LT(gLargestAllocation.load(), size_t{1} << 16) << size;
     const std::string prefix =
-        "s.3dvo: unit 0 at byte 4 (I_MESH): unit_size " + std::to_string(size);
+        "s.3dvo: unit 0 (I_MESH) at byte 4: unit_size " + std::to_string(size);
     if (size > kMaxUnitSize)
       EXPECT_EQ(message, prefix + " exceeds the 1 GiB limit");
     else
