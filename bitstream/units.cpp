@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "common/core/error.h"
+#include "common/core/file_io.h"
 
 namespace tdvo {
 
@@ -155,6 +156,7 @@ bool UnitReader::next(UnitView& unit) {
 UnitFileReader::UnitFileReader(const std::string& path, std::string name) : name_(std::move(name)) {
   file_ = std::fopen(path.c_str(), "rb");
   if (!file_) throw Error(name_ + ": cannot open: " + std::strerror(errno));
+  noteFileRead(file_);
   long end = -1;
   if (std::fseek(file_, 0, SEEK_END) == 0) end = std::ftell(file_);
   if (end < 0 || std::fseek(file_, 0, SEEK_SET) != 0) {

@@ -63,6 +63,7 @@ class Md5Log {
  public:
   explicit Md5Log(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "rb")) {
     if (!file_) throw Error(path + ": cannot open: " + std::strerror(errno));
+    noteFileRead(file_);
   }
   ~Md5Log() { std::fclose(file_); }
   Md5Log(const Md5Log&) = delete;
@@ -313,7 +314,9 @@ int main(int argc, char** argv) {
     // Output folders (docs/user-guide.md): a non-empty one is refused unless --Overwrite is
     // given; the output is staged inside and put in place when the run has succeeded, so that
     // the folder then holds exactly this run's output, and a failed run leaves it as it was.
-    const std::vector<std::string> inputs = {streamPath, verifyPath};
+    std::vector<std::string> inputs = table.filesRead();  // the cfg files
+    inputs.push_back(streamPath);
+    inputs.push_back(verifyPath);
     std::optional<OutputFolder> outputs, extracted;
     if (!outputDir.empty()) outputs.emplace(outputDir, overwrite, inputs);
     const bool extractIntoOutput = outputs && insideFolder(extractDir, outputDir);

@@ -618,6 +618,31 @@ TEST_F(AppsTest, DecoderOverwriteKeepsItsInputs) {
   EXPECT_TRUE(std::filesystem::exists(dir_.file("out/seq.3dvo")));
 }
 
+// A cfg file (3dvo-dec, 3dvo-sample) or an input frame (3dvo-synth) inside the output folder
+// is an input --Overwrite keeps: the run is refused before it starts, the files stay.
+TEST_F(AppsTest, OverwriteKeepsCfgFilesAndFramesInsideTheFolder) {
+  encodeGood();
+  std::filesystem::create_directories(dir_.path() / "o");
+  test::writeText(dir_.file("o/dec.cfg"), "OutputDir : o\n");
+  expectFailure(kDecoder, {"-c", "o/dec.cfg", "-i", "seq.3dvo", "--Overwrite"},
+                {"o: --Overwrite would delete the input o/dec.cfg"});
+  std::filesystem::create_directories(dir_.path() / "so");
+  test::writeText(dir_.file("so/s.cfg"), "FrameCount : 2\n");
+  expectFailure(kBin + "/3dvo-sample", {"-c", "so/s.cfg", "-o", "so", "--Overwrite"},
+                {"so: --Overwrite would delete the input so/s.cfg"});
+  ASSERT_EQ(test::run(dir_, kBin + "/3dvo-sample", {"-o", "smp", "--FrameCount=2"}).exitCode, 0);
+  for (int f = 0; f < 2; ++f) {
+    std::filesystem::create_directories(dir_.path() / ("m" + std::to_string(f)));
+    std::filesystem::copy_file(dir_.file("smp/000" + std::to_string(f) + ".obj"),
+                               dir_.file("m" + std::to_string(f) + "/f.obj"));
+  }
+  expectFailure(kBin + "/3dvo-synth",
+                {"-o", "m1", "--InputMeshPattern=m%d/f.obj", "--FrameCount=2", "--Overwrite"},
+                {"m1: --Overwrite would delete the input m1/f.obj"});
+  for (const char* kept : {"o/dec.cfg", "so/s.cfg", "m1/f.obj"})
+    EXPECT_TRUE(std::filesystem::exists(dir_.file(kept))) << kept;
+}
+
 TEST_F(AppsTest, FailedTexturedDecodeLeavesNoFolderTree) {
   // A textured stream cut inside its last GOM: frames and camera PNGs of the first GOMs were
   // decoded (and staged) before the error.

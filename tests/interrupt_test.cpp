@@ -339,6 +339,52 @@ TEST(OutputFolders, OverwriteRefusesAFolderHoldingAnInput) {
   EXPECT_EQ(test::readText(dir.file("out/in/x.3dvo")), "stream");
 }
 
+// Whatever an app lists as its inputs, a file the process read is never deleted by a commit:
+// the commit stops with the folder as it was (here a file read in a subfolder, and one read
+// by name, as FFmpeg's files are noted); a link to a read file is only a link, and goes.
+TEST(OutputFolders, CommitNeverDeletesAFileThisRunRead) {
+  TempDir dir("outfolder");
+  std::filesystem::create_directories(dir.path() / "out" / "sub");
+  test::writeText(dir.file("out/sub/read.cfg"), "Key : 1");
+  test::writeText(dir.file("out/0000.obj"), "previous");
+  test::writeText(dir.file("elsewhere.txt"), "read elsewhere");
+  std::filesystem::create_symlink(dir.file("elsewhere.txt"), dir.file("out/link.txt"));
+  readFileBytes(dir.file("elsewhere.txt"));
+  {
+    OutputFolder out(dir.file("out"), true);
+    readTextFile(dir.file("out/sub/read.cfg"), 100, "a cfg file");
+    out.write(dir.file("out/0000.obj"), "new");
+    try {
+      out.commit();
+      ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()),
+                dir.file("out") + ": --Overwrite would delete " + dir.file("out/sub/read.cfg") +
+                    ", a file this run read; the folder is as it was");
+    }
+  }
+  EXPECT_EQ(test::readText(dir.file("out/sub/read.cfg")), "Key : 1");
+  EXPECT_EQ(test::readText(dir.file("out/0000.obj")), "previous");
+  EXPECT_EQ(test::listFolder(dir.path() / "out"),
+            (std::vector<std::string>{"0000.obj", "link.txt", "sub"}));
+  std::filesystem::remove_all(dir.path() / "out" / "sub");
+  test::writeText(dir.file("out/video.mp4"), "not really a video");
+  noteFileRead(dir.file("out/video.mp4"));
+  {
+    OutputFolder out(dir.file("out"), true);
+    out.write(dir.file("out/0000.obj"), "new");
+    EXPECT_THROW(out.commit(), Error);
+  }
+  std::filesystem::remove(dir.path() / "out" / "video.mp4");
+  {
+    OutputFolder out(dir.file("out"), true);
+    out.write(dir.file("out/0000.obj"), "new");
+    out.commit();  // the link to a file read goes, the file stays
+  }
+  EXPECT_EQ(test::listFolder(dir.path() / "out"), (std::vector<std::string>{"0000.obj"}));
+  EXPECT_EQ(test::readText(dir.file("elsewhere.txt")), "read elsewhere");
+}
+
 // frameOfPath inverts framePath exactly: the same padding, one conversion, "%%" a percent sign.
 TEST(FramePattern, FrameOfPathInvertsFramePath) {
   for (const std::string pattern : {"a/%04d.png", "%d.obj", "x%%y/%3d-z.obj.gz"})

@@ -11,7 +11,9 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <set>
 
 #include "common/core/error.h"
 #include "common/core/interrupt.h"
@@ -43,9 +45,46 @@ namespace {
 
 }  // namespace
 
+namespace {
+
+struct ReadFiles {
+  std::mutex mutex;
+  std::set<std::pair<dev_t, ino_t>> files;
+};
+ReadFiles& readFiles() {
+  static ReadFiles registry;
+  return registry;
+}
+
+void noteStat(const struct stat& st) {
+  if (!S_ISREG(st.st_mode)) return;  // devices, FIFOs: nothing a folder's removal destroys
+  ReadFiles& r = readFiles();
+  const std::lock_guard<std::mutex> lock(r.mutex);
+  r.files.emplace(st.st_dev, st.st_ino);
+}
+
+}  // namespace
+
+void noteFileRead(std::FILE* file) {
+  struct stat st;
+  if (file && ::fstat(::fileno(file), &st) == 0) noteStat(st);
+}
+
+void noteFileRead(const std::string& path) {
+  struct stat st;
+  if (::stat(path.c_str(), &st) == 0) noteStat(st);
+}
+
+bool wasFileRead(const struct stat& st) {
+  ReadFiles& r = readFiles();
+  const std::lock_guard<std::mutex> lock(r.mutex);
+  return r.files.count({st.st_dev, st.st_ino}) > 0;
+}
+
 std::vector<uint8_t> readFileBytes(const std::string& path, uint64_t maxBytes, const char* what) {
   FilePtr f(std::fopen(path.c_str(), "rb"));
   if (!f) throw Error(path + ": cannot open: " + systemError());
+  noteFileRead(f.get());
   std::vector<uint8_t> data;
   uint8_t buffer[1 << 16];
   size_t n;
@@ -68,6 +107,7 @@ void readFileMaybeGzChunks(const std::string& path,
   // gzopen reads plain files transparently, so one path serves both.
   FilePtr probe(std::fopen(path.c_str(), "rb"));
   if (!probe) throw Error(path + ": cannot open: " + systemError());
+  noteFileRead(probe.get());
   probe.reset();
   gzFile gz = gzopen(path.c_str(), "rb");
   if (!gz) throw Error(path + ": cannot open: " + systemError());
@@ -513,6 +553,22 @@ void OutputFolder::commit() {
     if (std::find(previous_.begin(), previous_.end(), name) == previous_.end() &&
         ::lstat((folder_ + "/" + name).c_str(), &st) == 0)
       previous.push_back(name);
+  }
+  // Nothing this run read goes: a file read (noteFileRead) inside what would be replaced stops
+  // the commit, the folder as it was. Links are not followed (removing a link removes no data).
+  for (const std::string& name : previous) {
+    const fs::path top = fs::path(folder_) / name;
+    auto refuse = [&](const fs::path& file) {
+      throw Error(folder_ + ": --Overwrite would delete " + file.string() +
+                  ", a file this run read; the folder is as it was");
+    };
+    struct stat st;
+    if (::lstat(top.c_str(), &st) != 0) continue;
+    if (wasFileRead(st)) refuse(top);
+    if (!S_ISDIR(st.st_mode)) continue;
+    for (fs::recursive_directory_iterator it(top, ec), end; !ec && it != end; it.increment(ec))
+      if (::lstat(it->path().c_str(), &st) == 0 && wasFileRead(st)) refuse(it->path());
+    ec.clear();  // what cannot be listed cannot be removed either
   }
   // The previous contents go aside first (into a hidden folder inside this one), then the new
   // entries come in; any failure moves everything back.

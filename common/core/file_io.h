@@ -1,10 +1,12 @@
 // Whole-file reading and atomic writing.
 #pragma once
 
+#include <sys/stat.h>
 #include <sys/types.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <string>
@@ -19,6 +21,14 @@ namespace tdvo {
 constexpr uint64_t kMaxCfgFileBytes = uint64_t{1} << 20;     // cfg files, GOM lists
 constexpr uint64_t kMaxTextFileBytes = uint64_t{1} << 24;    // dataset.json, calibration, paths
 constexpr uint64_t kMaxBinaryFileBytes = uint64_t{1} << 30;  // images, texture files
+
+// The files this process has read, by identity (device and inode): every reader of 3DVO notes
+// the file it opens, and OutputFolder::commit() refuses to delete one, whichever app read it
+// and whether or not the app listed it among its inputs (docs/robustness.md, "No data lost").
+void noteFileRead(std::FILE* file);
+void noteFileRead(const std::string& path);  // for files a library opens by name (FFmpeg)
+// Whether `st` (a stat result) is a file this process has read.
+bool wasFileRead(const struct stat& st);
 
 // Reads a whole file into memory. Throws Error naming the file when it cannot be opened or read,
 // or when it holds more than `maxBytes` bytes (`what` names the kind of file in that message:

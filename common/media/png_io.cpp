@@ -122,6 +122,7 @@ void readPngSize(const std::string& path, int& width, int& height) {
   // Signature (8) + IHDR length and type (8) + width and height (8).
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw Error(path + ": cannot open");
+  noteFileRead(f);
   uint8_t head[24];
   const size_t n = std::fread(head, 1, sizeof head, f);
   std::fclose(f);

@@ -10,6 +10,7 @@ extern "C" {
 }
 
 #include "common/core/error.h"
+#include "common/core/file_io.h"
 #include "common/media/ffmpeg_log.h"
 
 namespace tdvo {
@@ -73,6 +74,7 @@ VideoReader::VideoReader(const std::string& path) : state_(std::make_unique<Stat
   routeFfmpegLog();
   State& s = *state_;
   s.path = path;
+  noteFileRead(path);
   int ret = avformat_open_input(&s.format, path.c_str(), nullptr, nullptr);
   if (ret < 0) throw Error(path + ": cannot open video: " + avError(ret));
   ret = avformat_find_stream_info(s.format, nullptr);

@@ -22,6 +22,7 @@ namespace {
 bool pngHasAlpha(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   check(f != nullptr, path + ": cannot open");
+  noteFileRead(f);
   uint8_t head[26];
   const size_t n = std::fread(head, 1, sizeof head, f);
   std::fclose(f);

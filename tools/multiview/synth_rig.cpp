@@ -276,10 +276,13 @@ Dataset writeSyntheticDataset(const SynthParams& p) {
     d.cameras.push_back(dc);
   }
 
-  OutputFolder files(
-      p.output, p.overwrite,
-      {p.backgroundImage,
-       p.inputMeshPattern.empty() ? std::string() : framePath(p.inputMeshPattern, p.firstFrame)});
+  // Every input frame (a file this run reads inside the folder would also stop the commit, but
+  // only after the work).
+  std::vector<std::string> inputs = {p.backgroundImage};
+  if (!p.inputMeshPattern.empty())
+    for (int k = 0; k < p.frameCount; ++k)
+      inputs.push_back(framePath(p.inputMeshPattern, p.firstFrame + k));
+  OutputFolder files(p.output, p.overwrite, inputs);
   auto stagePng = [&](const std::string& path, const Image& image) {
     const std::vector<uint8_t> bytes = encodePng(image);
     files.write(path, bytes.data(), bytes.size());
