@@ -179,6 +179,14 @@ void transfer(Io& io, SequenceHeader& sh) {
              "sh_grid_origin must be finite");
   io.require(std::isfinite(sh.sh_grid_step) && sh.sh_grid_step > 0,
              "sh_grid_step must be finite and positive");
+  // Every grid point's world position (origin + q * step, docs/bitstream.md section 2) is then
+  // finite: its far corner is.
+  const double span = static_cast<double>((int64_t{1} << sh.sh_grid_bits) - 1) * sh.sh_grid_step;
+  io.require(std::isfinite(sh.sh_grid_origin[0] + span) &&
+                 std::isfinite(sh.sh_grid_origin[1] + span) &&
+                 std::isfinite(sh.sh_grid_origin[2] + span),
+             "the grid's far corner, sh_grid_origin + (2^sh_grid_bits - 1) * sh_grid_step, must "
+             "be finite");
   // The one difference between versions 2 and 3 (a version 2 stream has no ATTRIBUTES units).
   if (sh.sh_syntax_version >= 3)
     io.u8("sh_attributes_present", sh.sh_attributes_present, 0, 1);

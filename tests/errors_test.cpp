@@ -598,6 +598,12 @@ CATALOGUE_TEST(H06) {
   }
 }
 
+CATALOGUE_TEST(H12) {
+  std::vector<Unit> units = baseUnits();
+  putF64(units[0].payload, kShStep, 1e308);
+  expectUnitsRow("H12", units);
+}
+
 CATALOGUE_TEST(H07) {
   for (int axis = 0; axis < 3; ++axis) {
     std::vector<Unit> units = baseUnits();
