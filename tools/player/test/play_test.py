@@ -197,6 +197,14 @@ class PlayTest(unittest.TestCase):
             response, body = play.request(path, headers={"Range": asked}, connection=c)
             self.assertEqual(response.status, 416, asked)
             self.assertEqual(response.getheader("Content-Range"), f"bytes */{size}")
+        # Positions of thousands of digits are past any file (Python's int() refuses them).
+        huge = "9" * 5000
+        for asked, status in ((f"bytes={huge}-", 416), (f"bytes=0-{huge}", 206),
+                              (f"bytes=-{huge}", 206)):
+            response, body = play.request(path, headers={"Range": asked}, connection=c)
+            self.assertEqual(response.status, status, asked[:20])
+            if status == 206:
+                self.assertEqual(body, data)
         # Several ranges, or a malformed or reversed one: the whole stream.
         for asked in ("bytes=0-9,20-29", "bytes=9-0", "lines=1-2", "bytes=x-y"):
             response, body = play.request(path, headers={"Range": asked}, connection=c)
@@ -212,7 +220,7 @@ class PlayTest(unittest.TestCase):
         self.assertEqual((response.status, body), (200, data))
         c.close()
         err = self.check_stops(play, signal.SIGTERM)
-        self.assertEqual(len(err.splitlines()), 3, err)  # one line per 416
+        self.assertEqual(len(err.splitlines()), 4, err)  # one line per 416
         self.assertIn("416", err)
 
     def test_the_stream_is_read_for_every_request(self):
@@ -227,6 +235,48 @@ class PlayTest(unittest.TestCase):
             self.assertEqual((response.status, body), (206, b"more"))
             self.assertEqual(play.request(play.stream_url)[1], read(TEXTURED) + b"more")
             self.check_stops(play, signal.SIGINT)
+
+    def test_a_stream_replaced_by_a_fifo_is_an_error_not_a_hang(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            stream = os.path.join(tmp, "s.3dvo")
+            shutil.copy(TEXTURED, stream)
+            play = Play(stream, self.player)
+            os.remove(stream)
+            os.mkfifo(stream)
+            start = time.monotonic()
+            response, _ = play.request(play.stream_url)
+            self.assertEqual(response.status, 500)
+            self.assertLess(time.monotonic() - start, 5)
+            err = self.check_stops(play, signal.SIGINT)
+            self.assertIn("not a regular file", err)
+
+    def test_connections_are_bounded(self):
+        # MAX_CONNECTIONS silent connections hold every slot; one more is answered 503 and
+        # closed; once they are gone, requests are served again.
+        play = Play(TEXTURED, self.player)
+        silent = [socket.create_connection(("127.0.0.1", play.port)) for _ in range(64)]
+        try:
+            time.sleep(0.5)
+            extra = socket.create_connection(("127.0.0.1", play.port), timeout=10)
+            extra.sendall(b"GET / HTTP/1.1\r\nHost: x\r\n\r\n")
+            answer = b""
+            while chunk := extra.recv(4096):
+                answer += chunk
+            extra.close()
+            self.assertTrue(answer.startswith(b"HTTP/1.1 503"), answer)
+        finally:
+            for s in silent:
+                s.close()
+        deadline = time.monotonic() + 10
+        while True:
+            try:
+                if play.request("/")[0].status == 200:
+                    break
+            except (ConnectionError, http.client.HTTPException):
+                pass
+            self.assertLess(time.monotonic(), deadline, "not served again")
+            time.sleep(0.1)
+        self.check_stops(play, signal.SIGTERM)
 
     def test_nothing_outside_the_folder_is_served(self):
         play = Play(TEXTURED, self.player)
