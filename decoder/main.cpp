@@ -389,7 +389,19 @@ int main(int argc, char** argv) {
               }
               if (!animationFile.empty()) {
                 file = animationFile;
-                if (!animation) animation.emplace(decoder.sequenceHeader().sh_frame_rate);
+                if (!animation) {
+                  // Too many frames for one animation file: said before any is decoded.
+                  const SequenceHeader& sh = decoder.sequenceHeader();
+                  const int64_t count =
+                      frameCount > 0 ? frameCount
+                                     : int64_t{sh.sh_first_frame} + sh.sh_frame_count - inputNumber(frame);
+                  check(count <= static_cast<int64_t>(kMaxGltfAnimationFrames),
+                        "the output range has " + std::to_string(count) + " frames, more than " +
+                            std::to_string(kMaxGltfAnimationFrames) +
+                            " for one animation file (it is made in memory): write per-frame "
+                            "files (MeshFormat) or fewer frames (FrameCount)");
+                  animation.emplace(sh.sh_frame_rate);
+                }
                 animation->add(decoded);
               }
             } catch (const Error& e) {

@@ -1531,6 +1531,14 @@ CATALOGUE_TEST(D17) {
   expectRow("D17", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--MeshFormat=gltf"});
 }
 
+CATALOGUE_TEST(D19) {
+  // 20000 frames of a 9-vertex sheet (a few hundred bytes): refused at the first frame, before
+  // the animation holds any.
+  test::writeBytes(dir_.file("x.3dvo"), join(staticSheetUnits(3, 20000, 1)));
+  expectRow("D19", "3dvo-dec",
+            {"-i", "x.3dvo", "-o", "out", "--MeshFormat=none", "--AnimationFile=a.glb"});
+}
+
 CATALOGUE_TEST(D18) {
   test::writeBytes(dir_.file("x.3dvo"), baseStream());
   expectRow("D18", "3dvo-dec",

@@ -374,6 +374,32 @@ TEST(Gltf, WrittenFilesReadBack) {
     expectClose(frames[f], file.frame(f), 1e-5, "frame " + std::to_string(f));
 }
 
+// The animation writer holds every frame until finish(): it takes at most
+// kMaxGltfAnimationFrames frames and kMaxGltfAnimationVertexFrames vertices x frames, and only
+// frames whose time (index / frame rate) is a float (a tiny frame rate made infinite key times,
+// a file its own reader refused).
+TEST(Gltf, AnimationWriterLimits) {
+  const Mesh tri = test::waveSheet(2, 2, 1)[0];
+  GltfAnimationWriter many(30.0);
+  for (size_t k = 0; k < kMaxGltfAnimationFrames; ++k)
+    many.add(tri);
+  EXPECT_NE(errorOf([&] { many.add(tri); }).find("more than 16384 frames for one animation file"),
+            std::string::npos);
+  Mesh big = tri;
+  big.positions.resize(kMaxGltfAnimationVertexFrames / 2 + 1, Vec3d{0, 0, 0});
+  GltfAnimationWriter large(30.0);
+  large.add(big);
+  EXPECT_NE(errorOf([&] {
+              large.add(big);
+            }).find("more than 33554432 vertices x frames for one animation file"),
+            std::string::npos);
+  GltfAnimationWriter slow(1e-300);
+  slow.add(tri);
+  EXPECT_EQ(errorOf([&] { slow.add(tri); }),
+            "its time in the animation, 1 / frame rate 1e-300, is beyond float32 (glTF's key "
+            "times)");
+}
+
 TEST(Gltf, LimitsAndMalformedFiles) {
   auto err = [](const std::string& data) {
     return errorOf([&] { GltfFile(std::vector<uint8_t>(data.begin(), data.end()), "x.gltf"); });

@@ -1144,6 +1144,19 @@ GltfAnimationWriter::GltfAnimationWriter(double frameRate) : frameRate_(frameRat
 GltfAnimationWriter::~GltfAnimationWriter() = default;
 
 void GltfAnimationWriter::add(const Mesh& input) {
+  if (frames_ >= kMaxGltfAnimationFrames)
+    throw Error("more than " + std::to_string(kMaxGltfAnimationFrames) +
+                " frames for one animation file (it is made in memory): write per-frame files "
+                "(MeshFormat) or fewer frames (FrameCount)");
+  if (input.positions.size() > kMaxGltfAnimationVertexFrames - vertexFrames_)
+    throw Error("more than " + std::to_string(kMaxGltfAnimationVertexFrames) +
+                " vertices x frames for one animation file (it is made in memory): write "
+                "per-frame files (MeshFormat) or fewer frames (FrameCount)");
+  const float time = static_cast<float>(static_cast<double>(frames_) / frameRate_);
+  if (!std::isfinite(time))
+    throw Error("its time in the animation, " + std::to_string(frames_) + " / frame rate " +
+                formatDouble(frameRate_) + ", is beyond float32 (glTF's key times)");
+  vertexFrames_ += input.positions.size();
   const Mesh frame = splitAttributeSeams(input);  // per-vertex attributes, as formatGltf
   const size_t inRun = runs_.empty() ? 0 : frames_ - runs_.back().first;
   const bool normals = frame.attributes.hasNormals();

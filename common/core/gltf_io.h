@@ -99,6 +99,8 @@ class GltfAnimationWriter {
  public:
   explicit GltfAnimationWriter(double frameRate);
   ~GltfAnimationWriter();
+  // Throws Error beyond kMaxGltfAnimationFrames frames or kMaxGltfAnimationVertexFrames
+  // vertices x frames, or when the frame's time (its index / frame rate) is not a finite float.
   void add(const Mesh& frame);
   size_t frames() const { return frames_; }
   std::string finish();  // the .glb bytes
@@ -114,9 +116,16 @@ class GltfAnimationWriter {
   };
   double frameRate_;
   size_t frames_ = 0;
+  uint64_t vertexFrames_ = 0;
   std::vector<Run> runs_;
 };
 
 constexpr size_t kMaxGltfRunFrames = 256;
+// What one animation file holds (GltfAnimationWriter::add refuses more): the writer keeps every
+// frame until finish() (and the .glb is made in memory), so its memory is bounded by these, not
+// by the stream: at most about 250 MB for the frames of a tiny mesh (per-frame accessors and
+// weights) and 30 bytes per vertex-frame for large ones (docs/robustness.md, "Memory").
+constexpr size_t kMaxGltfAnimationFrames = 16384;
+constexpr uint64_t kMaxGltfAnimationVertexFrames = uint64_t{1} << 25;
 
 }  // namespace tdvo
