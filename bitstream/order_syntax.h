@@ -384,13 +384,16 @@ void codeMeshOrder(Io& io, const IntMesh& decoded, MeshOrder& order, bool triang
       const uint32_t* it = std::lower_bound(
           begin, end, wanted,
           [&](uint32_t c, const std::array<uint32_t, 3>& w) { return key(c) < w; });
-      while (it != end && (key(*it)[0] != t[1] || key(*it)[1] != t[2] ||
-                           remaining.rank(a, uint32_t(it - begin) + 1) ==
-                               remaining.rank(a, uint32_t(it - begin))))
-        ++it;
-      io.require(it != end && key(*it)[0] == t[1] && key(*it)[1] == t[2],
-                 "output triangle " + std::to_string(i) + " is no remaining decoded triangle");
+      // The corners with that key follow one another from `it`, some of them used already:
+      // the first remaining one at or after `it`, found in the tree (stepping over the used
+      // ones one by one took time quadratic in the copies of a repeated triangle).
       choice = remaining.rank(a, uint32_t(it - begin));
+      const bool found = choice < candidates && [&] {
+        const std::array<uint32_t, 3> k = key(begin[remaining.select(a, choice)]);
+        return k[0] == t[1] && k[1] == t[2];
+      }();
+      io.require(found,
+                 "output triangle " + std::to_string(i) + " is no remaining decoded triangle");
     }
     if (candidates > 1)
       codeUnsigned(io, "vo_corner_choice", ctx.choice[std::min<uint32_t>(candidates - 2, 3)],

@@ -12,6 +12,7 @@
 #include "common/geometry/keyframes.h"
 #include "decoder/gom_decoder.h"
 #include "encoder/attributes_encoder.h"
+#include "encoder/imesh_encoder.h"
 #include "encoder/keyframe_selection.h"
 #include "encoder/pmesh_encoder.h"
 
@@ -276,6 +277,16 @@ class GomCoder : public GomUnits {
         std::any_of(mesh.triangles.begin(), mesh.triangles.end(),
                     [](const Triangle& t) { return t[0] != t[1] && t[1] != t[2] && t[0] != t[2]; });
     check(any, name(k) + ": every triangle has a repeated vertex: no triangle is left to code");
+    // Draco's encoder takes time quadratic in the triangles around one vertex (its corner
+    // table); a vertex of more is refused before it (kMaxVertexTriangles, imesh_encoder.h).
+    std::vector<uint32_t> around(mesh.positions.size(), 0);
+    for (const Triangle& t : mesh.triangles)
+      if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+        for (uint32_t v : t)
+          check(++around[v] <= kMaxVertexTriangles,
+                name(k) + ": vertex " + std::to_string(v) + " is a corner of more than " +
+                    std::to_string(kMaxVertexTriangles) +
+                    " triangles (Draco's encoding time grows with the square of it)");
   }
 
   // P meshes carry positions only: the GOM's frames must share the first frame's connectivity.

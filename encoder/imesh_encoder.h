@@ -33,6 +33,12 @@
 
 namespace tdvo {
 
+// The most (proper) triangles one vertex of an I mesh may be a corner of: Draco's encoder
+// builds its corner table in time quadratic in it (a fan of 80,000 triangles took 6 s, 160,000
+// copies of one triangle 17 s), so that encoding stays linear in the mesh, with a constant
+// that real meshes (valences of tens) never come near (docs/errors.md, O19).
+constexpr uint32_t kMaxVertexTriangles = 4096;
+
 struct IMeshEncoding {
   std::vector<uint8_t> payload;       // im_draco_payload
   IntMesh decoded;                    // what every decoder reconstructs

@@ -1422,6 +1422,16 @@ CATALOGUE_TEST(O18) {
   expectObjRow("O18", kTriangle + "v 0 1e301 1\nf 1 2 3\n");
 }
 
+CATALOGUE_TEST(O19) {
+  std::string fan = "v 0 0 0\n";
+  for (int i = 0; i <= 5000; ++i)
+    fan += "v " + std::to_string(std::cos(i * 1e-3)) + " " + std::to_string(std::sin(i * 1e-3)) +
+           " 0\n";
+  for (int i = 0; i < 5000; ++i)
+    fan += "f 1 " + std::to_string(i + 2) + " " + std::to_string(i + 3) + "\n";
+  expectObjRow("O19", fan);
+}
+
 CATALOGUE_TEST(O04) {
   expectObjRow("O04", kTriangle + "v 1 2\nf 1 2 3\n");
 }

@@ -575,6 +575,24 @@ TEST(SequenceEncoder, AnUnusedVertexIsWarnedAboutBesideANonManifoldOne) {
   }
 }
 
+// Copies of one triangle, in both orientations and corner rotations, among a sheet's: the
+// output is the input's list (the order writer finds the next unused copy in the corner tree,
+// not by stepping over the used ones).
+TEST(SequenceEncoder, ManyCopiesOfOneTriangleKeepTheirOrder) {
+  Mesh m = test::waveSheet(4, 4, 1)[0];
+  for (int i = 0; i < 3000; ++i) {
+    const Triangle t = i % 3 == 0   ? Triangle{0, 1, 5}
+                       : i % 3 == 1 ? Triangle{1, 5, 0}
+                                    : Triangle{0, 5, 1};
+    m.triangles.insert(m.triangles.begin() + (i * 7) % m.triangles.size(), t);
+  }
+  testing::internal::CaptureStderr();
+  const RoundTrip r = encodeAndDecode({m}, paramsFor(10, 1, PMeshMode::kIntra));
+  testing::internal::GetCapturedStderr();
+  ASSERT_EQ(r.decoderFrames.size(), 1u);
+  EXPECT_EQ(r.decoderFrames[0].triangles, m.triangles);
+}
+
 // Nothing but degenerate triangles: no surface to code.
 TEST(SequenceEncoder, OnlyDegenerateTrianglesAreRefused) {
   std::vector<Mesh> none = test::waveSheet(5, 5, 1);
