@@ -545,7 +545,28 @@ std::vector<uint32_t> nearestVertexCorrespondence(const std::vector<Vec3d>& refe
                                              " vertices, the test " + std::to_string(test.size()));
   check(reference.size() < (size_t{1} << 32), "vertex correspondence: too many vertices");
   const size_t n = reference.size();
-  const PositionCloud cloud{reference};
+  // Coincident reference vertices are one point of the tree, holding their indices in
+  // ascending order: a point is taken when all of them are, so that many coincident vertices
+  // (seams, a collapsed region) cost one search each, not a search among all of them (which
+  // took time quadratic in their number).
+  std::vector<uint32_t> byPosition(n);
+  for (size_t i = 0; i < n; ++i)
+    byPosition[i] = static_cast<uint32_t>(i);
+  std::sort(byPosition.begin(), byPosition.end(), [&](uint32_t a, uint32_t b) {
+    return std::tie(reference[a], a) < std::tie(reference[b], b);
+  });
+  std::vector<Vec3d> points;            // the distinct reference positions
+  std::vector<uint32_t> pointStart{0};  // point p's indices: byPosition[pointStart[p] ..)
+  for (size_t i = 0; i < n; ++i) {
+    if (i > 0 && reference[byPosition[i]] != reference[byPosition[i - 1]]) {
+      pointStart.push_back(static_cast<uint32_t>(i));
+    }
+    if (pointStart.size() > points.size()) points.push_back(reference[byPosition[i]]);
+  }
+  pointStart.push_back(static_cast<uint32_t>(n));
+  const size_t numPoints = points.size();
+  std::vector<uint32_t> nextFree(pointStart.begin(), pointStart.end() - 1);
+  const PositionCloud cloud{points};
   PositionTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
 
   // Pass 1: distance of each test vertex to its nearest reference vertex (sets the order).
@@ -564,37 +585,40 @@ std::vector<uint32_t> nearestVertexCorrespondence(const std::vector<Vec3d>& refe
   });
 
   // Pass 2: each test vertex takes the nearest free reference vertex (lowest index among equally
-  // near ones). k nearest neighbours are fetched, k starting at 2 and doubling until a free one
-  // is found whose distance is below the k-th (so no unseen vertex can be as near) or k covers
-  // everything.
+  // near ones). k nearest points are fetched, k starting at 2 and doubling until a point with a
+  // free vertex is found whose distance is below the k-th (so no unseen point can be as near)
+  // or k covers every point; among equally near points the one whose lowest free index is
+  // lowest.
   std::vector<uint32_t> result(n);
-  std::vector<bool> taken(n, false);
   std::vector<uint32_t> indices;
   std::vector<double> d2s;
-  std::vector<std::pair<double, uint32_t>> candidates;
+  std::vector<std::pair<double, uint32_t>> candidates;  // (distance², lowest free index)
+  std::vector<uint32_t> pointOf(n);
+  for (size_t p = 0; p < numPoints; ++p)
+    for (uint32_t j = pointStart[p]; j < pointStart[p + 1]; ++j)
+      pointOf[byPosition[j]] = static_cast<uint32_t>(p);
   for (uint32_t i : order) {
     size_t k = 2;
     for (;;) {
-      k = std::min(k, n);
+      k = std::min(k, numPoints);
       indices.resize(k);
       d2s.resize(k);
       const size_t found = tree.knnSearch(test[i].data(), k, indices.data(), d2s.data());
       candidates.clear();
-      for (size_t j = 0; j < found; ++j)
-        candidates.emplace_back(d2s[j], indices[j]);
+      double farthest = 0;
+      for (size_t j = 0; j < found; ++j) {
+        farthest = std::max(farthest, d2s[j]);
+        const uint32_t p = indices[j];
+        if (nextFree[p] < pointStart[p + 1])
+          candidates.emplace_back(d2s[j], byPosition[nextFree[p]]);
+      }
       std::sort(candidates.begin(), candidates.end());
-      const double farthest = candidates.back().first;
-      bool done = false;
-      for (const auto& [d2, r] : candidates) {
-        if (taken[r]) continue;
-        if (d2 < farthest || found == n) {
-          result[i] = r;
-          taken[r] = true;
-          done = true;
-        }
+      if (!candidates.empty() && (candidates[0].first < farthest || found == numPoints)) {
+        const uint32_t r = candidates[0].second;
+        result[i] = r;
+        ++nextFree[pointOf[r]];
         break;
       }
-      if (done) break;
       k *= 2;
     }
   }

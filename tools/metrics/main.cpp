@@ -130,14 +130,29 @@ std::string textCell(const std::optional<double>& value) {
 
 // Squared distances overflow double precision beyond about 1e154: coordinates beyond 1e150 in
 // magnitude (which the mesh readers take) would give infinite or NaN figures, so they are an
-// error here.
+// error here. At the other end they underflow: on a mesh smaller than 1e-140 across, the
+// squared errors (a fraction of its size, squared) fall below the smallest normal double and
+// the figures come out 0, so such a mesh is an error too (one point, extent 0, is not: its
+// figures are defined or said to be undefined).
 void checkMeasurable(const Mesh& mesh, const std::string& path) {
-  constexpr double kMaxCoordinate = 1e150;
+  constexpr double kMaxCoordinate = 1e150, kMinExtent = 1e-140;
+  Vec3d lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   for (size_t v = 0; v < mesh.positions.size(); ++v)
-    for (const double c : mesh.positions[v])
+    for (int a = 0; a < 3; ++a) {
+      const double c = mesh.positions[v][a];
       check(std::fabs(c) <= kMaxCoordinate,
             path + ": vertex " + std::to_string(v + 1) + " has a coordinate (" + formatDouble(c) +
                 ") beyond 1e150 in magnitude, where distances overflow double precision");
+      lo[a] = std::min(lo[a], c);
+      hi[a] = std::max(hi[a], c);
+    }
+  double extent = 0;
+  for (int a = 0; a < 3 && !mesh.positions.empty(); ++a)
+    extent = std::max(extent, hi[a] - lo[a]);
+  check(extent == 0 || extent >= kMinExtent,
+        path + ": the mesh is " + formatDouble(extent) +
+            " across, below 1e-140, where squared distances underflow double precision (the "
+            "figures would be 0): scale the meshes up");
 }
 
 }  // namespace
