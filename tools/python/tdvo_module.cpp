@@ -249,6 +249,17 @@ std::string cfgValue(const std::string& key, const py::handle value) {
 
 // One input frame's arrays: positions and triangles, from a pair or an object with those
 // attributes (e.g. a decoded tdvo.Frame).
+// item.name, or None when item has no such attribute. An exception the attribute itself raises
+// (a property that fails) is the caller's to see: py::hasattr would swallow it, and the frame
+// would be refused for a reason that is not the user's.
+py::object attributeOrNone(const py::handle item, const char* name) {
+  PyObject* value = PyObject_GetAttrString(item.ptr(), name);
+  if (value) return py::reinterpret_steal<py::object>(value);
+  if (!PyErr_ExceptionMatches(PyExc_AttributeError)) throw py::error_already_set();
+  PyErr_Clear();
+  return py::none();
+}
+
 std::pair<py::object, py::object> frameArrays(const py::handle item, const std::string& frame) {
   if (py::isinstance<py::tuple>(item) || py::isinstance<py::list>(item)) {
     const py::sequence pair = py::reinterpret_borrow<py::sequence>(item);
@@ -259,13 +270,14 @@ std::pair<py::object, py::object> frameArrays(const py::handle item, const std::
   }
   // Never dropped silently: an object carrying texture coordinates or normals is refused.
   for (const char* attribute : {"uvs", "normals"})
-    if (py::hasattr(item, attribute) && !item.attr(attribute).is_none())
+    if (!attributeOrNone(item, attribute).is_none())
       throw Error(frame + ": has " +
                   (std::string(attribute) == "uvs" ? "texture coordinates" : "normals") +
                   ", which tdvo.encode does not take yet (docs/python.md); pass (positions, "
                   "triangles) to code the geometry alone");
-  if (py::hasattr(item, "positions") && py::hasattr(item, "triangles"))
-    return {item.attr("positions"), item.attr("triangles")};
+  py::object positions = attributeOrNone(item, "positions");
+  py::object triangles = attributeOrNone(item, "triangles");
+  if (!positions.is_none() && !triangles.is_none()) return {positions, triangles};
   throw Error(frame +
               ": expected (positions, triangles) or an object with .positions and .triangles, "
               "got " +

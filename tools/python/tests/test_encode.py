@@ -144,3 +144,31 @@ def test_cfg_values_and_files(tmp_path):
     overridden = tdvo.encode(sequence, {"GOMSize": 4}, cfg_files=[str(cfg)])
     assert overridden.stream != from_file.stream
     assert re.search(r"^GOMSize\s*:\s*4$", overridden.effective_config, re.M)
+
+
+def test_an_exception_of_a_frame_attribute_is_the_callers():
+    """A frame object whose property raises: that exception reaches the caller (it was replaced
+    by 'expected (positions, triangles)', hiding the cause)."""
+    positions, triangles = deforming_sequence(frames=1)[0]
+
+    class Frame:
+        @property
+        def positions(self):
+            raise ValueError("positions are not ready")
+
+        triangles = None
+
+    Frame.triangles = triangles
+    with pytest.raises(ValueError, match="positions are not ready"):
+        tdvo.encode([Frame()], {"GridBits": 12})
+
+    class Tagged:
+        positions = None
+
+        @property
+        def uvs(self):
+            raise KeyError("uv layer")
+
+    Tagged.positions = positions
+    with pytest.raises(KeyError, match="uv layer"):
+        tdvo.encode([Tagged()], {"GridBits": 12})
