@@ -10,6 +10,7 @@
 #include "bitstream/units.h"
 #include "common/core/error.h"
 #include "common/core/ordered_parallel.h"
+#include "decoder/stream_decoder.h"
 #include "encoder/gom_coder.h"
 
 namespace tdvo {
@@ -287,7 +288,22 @@ EncodedSequence encodeSequence(const EncoderParams& inParams, const Grid& grid,
   out.attributeBytes = units.bytesOfType(UnitType::kAttributes);
   out.textureBytes = units.bytesOfType(UnitType::kTexture);
   out.stream = units.bytes();
+  warnIfDecodersRefuse(out.stream);
   return out;
+}
+
+void warnIfDecodersRefuse(const std::vector<uint8_t>& stream) {
+  // A geometry decode (texture units are read and their work counted, pictures not decoded)
+  // with every decoder limit at its default: the limits are the decoder's, so this is what
+  // 3dvo-dec, tdvo::Decoder and the browser player do with the stream.
+  try {
+    UnitReader units(stream.data(), stream.size(), "the stream");
+    StreamDecoder decoder(units, "the stream");
+    decoder.decode([](int, const IntMesh&) {});
+  } catch (const Error& e) {
+    warn(std::string("decoders with their default limits refuse this stream: ") + e.what() +
+         " (3dvo-dec decodes it with the limit named there raised, or 0 for none)");
+  }
 }
 
 }  // namespace tdvo

@@ -102,4 +102,10 @@ EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
                                TextureEncoder* textures = nullptr,
                                const TextureCallback& onTexture = {}, bool keepInputIndex = false);
 
+// Says (warn(), common/core/warnings.h) when decoders with their default limits
+// (MaxMeshMemoryPerByte, MaxVertexFramesPerByte, MaxTexturePixelsPerByte; docs/robustness.md)
+// refuse `stream`, as for a fan of 160,000 triangles whose Draco vertices need more decoding
+// memory than the stream's bytes allow. encodeSequence calls it on every stream it makes.
+void warnIfDecodersRefuse(const std::vector<uint8_t>& stream);
+
 }  // namespace tdvo

@@ -32,6 +32,7 @@
 #include "common/core/gltf_io.h"
 #include "common/core/obj_io.h"
 #include "common/core/ply_io.h"
+#include "common/core/warnings.h"
 #include "common/entropy/cabac.h"
 #include "common/media/png_io.h"
 #include "common/views/image.h"
@@ -722,6 +723,23 @@ CATALOGUE_TEST(G11) {
 CATALOGUE_TEST(G12) {
   // 65535 frames of a 2500-vertex sheet from about 1 KB: 1.6 x 10^8 decoded vertex-frames.
   expectUnitsRow("G12", staticSheetUnits(50, 65535, 1));
+}
+
+// The encoder says when its stream is one that decoders with their default limits refuse
+// (here the G12 stream: more decoded output per stream byte than MaxVertexFramesPerByte), as
+// encodeSequence does for every stream it makes; a stream within the limits passes in silence.
+TEST(EncoderWarnings, StreamsDefaultDecodersRefuseAreSaid) {
+  std::vector<std::string> said;
+  const WarningHandler before =
+      setWarningHandler([&](const std::string& message) { said.push_back(message); });
+  warnIfDecodersRefuse(join(staticSheetUnits(50, 65535, 1)));
+  warnIfDecodersRefuse(join(staticSheetUnits(50, 3, 1)));
+  setWarningHandler(before);
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_NE(said[0].find("decoders with their default limits refuse this stream: the stream: "),
+            std::string::npos)
+      << said[0];
+  EXPECT_NE(said[0].find("(MaxVertexFramesPerByte)"), std::string::npos) << said[0];
 }
 
 CATALOGUE_TEST(G13) {
