@@ -1,5 +1,7 @@
 #include "bitstream/units.h"
 
+#include <sys/stat.h>
+
 #include <zlib.h>
 
 #include <algorithm>
@@ -134,6 +136,13 @@ void parseUnit(const uint8_t* at, uint64_t available, uint64_t offset, size_t in
 }
 
 }  // namespace
+
+std::array<uint64_t, 5> UnitFileReader::fileVersion() const {
+  struct stat st;
+  if (::fstat(::fileno(file_), &st) != 0) return {0, 0, 0, 0, 0};
+  return {uint64_t(st.st_dev), uint64_t(st.st_ino), uint64_t(st.st_size),
+          uint64_t(st.st_mtim.tv_sec), uint64_t(st.st_mtim.tv_nsec)};
+}
 
 void UnitSource::seek(uint64_t, size_t) {
   throw Error("this unit source cannot seek (decode from a file or from memory)");

@@ -7,6 +7,8 @@
 // payload. Units are read whole and their CRC is checked before any payload byte is parsed.
 #pragma once
 
+#include <array>
+
 #include <cstdint>
 #include <cstdio>
 #include <memory>
@@ -104,6 +106,9 @@ class UnitFileReader : public UnitSource {
   bool next(UnitView& unit) override;
   void seek(uint64_t offset, size_t index) override;
   uint64_t fileSize() const { return size_; }
+  // The open file's identity and version: device, inode, size and modification time, which
+  // change when the file is replaced or rewritten.
+  std::array<uint64_t, 5> fileVersion() const;
 
  private:
   void read(uint8_t* to, size_t bytes);

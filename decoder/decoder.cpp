@@ -55,8 +55,20 @@ struct Decoder::State {
   uint64_t maxMeshMemoryPerByte = kDefaultMaxMeshMemoryPerByte;
   uint64_t maxTexturePixelsPerByte = kDefaultMaxTexturePixelsPerByte;
 
+  // The file's version when first opened: every later reading (a seek, the texture units, the
+  // GOM starts) must find the same file, or the frames would come from two streams.
+  mutable std::optional<std::array<uint64_t, 5>> fileVersion;
+
   std::unique_ptr<UnitSource> source() const {
-    if (!path.empty()) return std::make_unique<UnitFileReader>(path, name);
+    if (!path.empty()) {
+      auto file = std::make_unique<UnitFileReader>(path, name);
+      if (!fileVersion) fileVersion = file->fileVersion();
+      if (file->fileVersion() != *fileVersion)
+        throw Error(name +
+                    ": the stream file has changed since it was opened (replaced or "
+                    "rewritten): open it again");
+      return file;
+    }
     if (arriving) return arriving->source();
     return std::make_unique<UnitReader>(data, size, name);
   }

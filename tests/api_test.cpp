@@ -162,6 +162,30 @@ TEST(DecoderApi, SeekGivesTheSameFrames) {
   }
 }
 
+// A seek reads the file again: when the file was replaced meanwhile, that is an error (before,
+// the frames after the seek came from the other stream, and info() changed under the caller).
+TEST(DecoderApi, SeekRefusesAStreamFileReplacedMeanwhile) {
+  const std::vector<std::string> names = conformanceStreams();
+  ASSERT_GE(names.size(), 2u);
+  test::TempDir dir("api-replaced");
+  const std::string path = dir.file("s.3dvo");
+  std::filesystem::copy_file(streamPath(names[0]), path);
+  Decoder decoder = Decoder::openFile(path);
+  DecodedFrame frame;
+  ASSERT_TRUE(decoder.next(frame));
+  decoder.seek(decoder.info().firstFrame);  // the same file: fine
+  std::filesystem::copy_file(streamPath(names[1]), dir.file("other.3dvo"));
+  std::filesystem::rename(dir.file("other.3dvo"), path);
+  try {
+    decoder.seek(decoder.info().firstFrame);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), path +
+                                         ": the stream file has changed since it was opened "
+                                         "(replaced or rewritten): open it again");
+  }
+}
+
 // Frames come one at a time as they are decoded: a stream cut inside its last GOM's P meshes
 // still gives the frames before the cut, then the error the push-style decoder reports.
 TEST(DecoderApi, FramesComeBeforeALaterError) {
