@@ -128,10 +128,12 @@ class CabacReaderIo {
   // Reads the final terminate bin and checks that the payload was used exactly.
   void finish() {
     require(decoder_.decodeTerminate() == 1, "missing end of payload (terminate bin)");
-    require(!decoder_.overrun(), "payload ends early (truncated)");
-    if (decoder_.codewordEnd() != size_)
+    // Bytes after the codeword first: the decoder starts a next codeword on them, and one byte
+    // is too short for one (it would read as a truncation).
+    if (decoder_.codewordEnd() < size_)
       fail(std::to_string(size_ - decoder_.codewordEnd()) +
            " unexpected bytes after the payload's end");
+    require(!decoder_.overrun(), "payload ends early (truncated)");
   }
 
  private:

@@ -1239,6 +1239,14 @@ CATALOGUE_TEST(P05) {
   units[4].payload.push_back(0);
   units[4].payload.push_back(0);
   expectUnitsRow("P05", units);
+  // One byte, too short for the next codeword the decoder starts on it: the same message (it
+  // read as a truncated payload).
+  units = baseUnits();
+  units[4].payload.push_back(0);
+  test::writeBytes(dir_.file("one.3dvo"), join(units));
+  const test::CommandResult r = test::run(dir_, kBin + "/3dvo-dec", {"-i", "one.3dvo"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find(": 1 unexpected bytes after the payload's end"), std::string::npos) << r.err;
 }
 
 CATALOGUE_TEST(P06) {
