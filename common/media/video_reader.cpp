@@ -12,6 +12,7 @@ extern "C" {
 #include "common/core/error.h"
 #include "common/core/file_io.h"
 #include "common/media/ffmpeg_log.h"
+#include "common/media/padded_plane.h"
 
 namespace tdvo {
 
@@ -205,9 +206,11 @@ bool VideoReader::read(Image& rgb) {
   sws_setColorspaceDetails(s.scaler, sws_getCoefficients(swsColourSpace(s.frame->colorspace)),
                            fullRange, sws_getCoefficients(SWS_CS_DEFAULT), 1, 0, 1 << 16, 1 << 16);
   rgb = Image(w, h, 3);
-  uint8_t* destination[4] = {rgb.pixels.data(), nullptr, nullptr, nullptr};
-  int strides[4] = {3 * w, 0, 0, 0};
+  PaddedPlane converted(3 * w, h);  // not rgb's packed rows: libswscale writes past a row's end
+  uint8_t* destination[4] = {converted.data(), nullptr, nullptr, nullptr};
+  int strides[4] = {converted.stride(), 0, 0, 0};
   sws_scale(s.scaler, s.frame->data, s.frame->linesize, 0, h, destination, strides);
+  converted.copyTo(rgb.pixels.data());
   av_frame_unref(s.frame);
   ++s.position;
   return true;

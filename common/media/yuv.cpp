@@ -7,6 +7,7 @@ extern "C" {
 #include <memory>
 
 #include "common/core/error.h"
+#include "common/media/padded_plane.h"
 
 namespace tdvo {
 
@@ -42,11 +43,18 @@ YuvPicture rgbToYuv420(const Image& rgb) {
         "rgbToYuv420 needs an even, non-empty size");
   YuvPicture out(rgb.width, rgb.height);
   auto c = converter(rgb.width, rgb.height, AV_PIX_FMT_RGB24, AV_PIX_FMT_YUV420P);
-  const uint8_t* src[1] = {rgb.pixels.data()};
-  const int srcStride[1] = {rgb.width * 3};
-  uint8_t* dst[3] = {out.y.data(), out.u.data(), out.v.data()};
-  const int dstStride[3] = {out.width, out.chromaWidth(), out.chromaWidth()};
+  PaddedPlane in(rgb.width * 3, rgb.height);
+  in.copyFrom(rgb.pixels.data());
+  PaddedPlane y(out.width, out.height), u(out.chromaWidth(), out.chromaHeight()),
+      v(out.chromaWidth(), out.chromaHeight());
+  const uint8_t* src[1] = {in.data()};
+  const int srcStride[1] = {in.stride()};
+  uint8_t* dst[3] = {y.data(), u.data(), v.data()};
+  const int dstStride[3] = {y.stride(), u.stride(), v.stride()};
   sws_scale(c.get(), src, srcStride, 0, rgb.height, dst, dstStride);
+  y.copyTo(out.y.data());
+  u.copyTo(out.u.data());
+  v.copyTo(out.v.data());
   return out;
 }
 
@@ -54,11 +62,18 @@ Image yuv420ToRgb(const YuvPicture& picture) {
   check(picture.width > 0 && picture.height > 0, "yuv420ToRgb needs a picture");
   Image out(picture.width, picture.height, 3);
   auto c = converter(picture.width, picture.height, AV_PIX_FMT_YUV420P, AV_PIX_FMT_RGB24);
-  const uint8_t* src[3] = {picture.y.data(), picture.u.data(), picture.v.data()};
-  const int srcStride[3] = {picture.width, picture.chromaWidth(), picture.chromaWidth()};
-  uint8_t* dst[1] = {out.pixels.data()};
-  const int dstStride[1] = {picture.width * 3};
+  PaddedPlane y(picture.width, picture.height), u(picture.chromaWidth(), picture.chromaHeight()),
+      v(picture.chromaWidth(), picture.chromaHeight());
+  y.copyFrom(picture.y.data());
+  u.copyFrom(picture.u.data());
+  v.copyFrom(picture.v.data());
+  PaddedPlane rgb(picture.width * 3, picture.height);
+  const uint8_t* src[3] = {y.data(), u.data(), v.data()};
+  const int srcStride[3] = {y.stride(), u.stride(), v.stride()};
+  uint8_t* dst[1] = {rgb.data()};
+  const int dstStride[1] = {rgb.stride()};
   sws_scale(c.get(), src, srcStride, 0, picture.height, dst, dstStride);
+  rgb.copyTo(out.pixels.data());
   return out;
 }
 
