@@ -343,6 +343,7 @@ TEST(OutputFolders, OverwriteRefusesAFolderHoldingAnInput) {
 // the commit stops with the folder as it was (here a file read in a subfolder, and one read
 // by name, as FFmpeg's files are noted); a link to a read file is only a link, and goes.
 TEST(OutputFolders, CommitNeverDeletesAFileThisRunRead) {
+  const bool was = protectFilesRead(true);  // as runApp does for every app
   TempDir dir("outfolder");
   std::filesystem::create_directories(dir.path() / "out" / "sub");
   test::writeText(dir.file("out/sub/read.cfg"), "Key : 1");
@@ -358,9 +359,9 @@ TEST(OutputFolders, CommitNeverDeletesAFileThisRunRead) {
       out.commit();
       ADD_FAILURE() << "no error";
     } catch (const Error& e) {
-      EXPECT_EQ(std::string(e.what()),
-                dir.file("out") + ": --Overwrite would delete " + dir.file("out/sub/read.cfg") +
-                    ", a file this run read; the folder is as it was");
+      EXPECT_EQ(std::string(e.what()), dir.file("out") + ": --Overwrite would delete " +
+                                           dir.file("out/sub/read.cfg") +
+                                           ", a file this run read; the folder is as it was");
     }
   }
   EXPECT_EQ(test::readText(dir.file("out/sub/read.cfg")), "Key : 1");
@@ -383,6 +384,35 @@ TEST(OutputFolders, CommitNeverDeletesAFileThisRunRead) {
   }
   EXPECT_EQ(test::listFolder(dir.path() / "out"), (std::vector<std::string>{"0000.obj"}));
   EXPECT_EQ(test::readText(dir.file("elsewhere.txt")), "read elsewhere");
+  protectFilesRead(was);
+}
+
+// Nor does an output file replace a file the run read (3dvo-import -c x/dataset.json -o x
+// replaced the cfg it read with the dataset), under any name or link.
+TEST(StagedOutputs, AFileThisRunReadIsNotReplaced) {
+  const bool was = protectFilesRead(true);  // as runApp does for every app
+  TempDir dir("staged-read");
+  test::writeText(dir.file("settings.cfg"), "Key : 1");
+  std::filesystem::create_symlink("settings.cfg", dir.file("link.cfg"));
+  test::writeText(dir.file("other.txt"), "other");
+  readTextFile(dir.file("settings.cfg"), 100, "a cfg file");
+  for (const char* name : {"settings.cfg", "link.cfg", "./settings.cfg"}) {
+    try {
+      writeFileAtomic(dir.file(name), "overwritten");
+      ADD_FAILURE() << name << ": no error";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()),
+                dir.file(name) + ": is a file this run read (an input); refusing to overwrite it");
+    }
+  }
+  EXPECT_EQ(test::readText(dir.file("settings.cfg")), "Key : 1");
+  writeFileAtomic(dir.file("other.txt"), "replaced");  // never read: replaced as asked
+  EXPECT_EQ(test::readText(dir.file("other.txt")), "replaced");
+  // A program using the library (protection off, the default) may rewrite what it read.
+  protectFilesRead(false);
+  writeFileAtomic(dir.file("settings.cfg"), "Key : 2");
+  EXPECT_EQ(test::readText(dir.file("settings.cfg")), "Key : 2");
+  protectFilesRead(was);
 }
 
 // frameOfPath inverts framePath exactly: the same padding, one conversion, "%%" a percent sign.

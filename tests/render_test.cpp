@@ -767,6 +767,63 @@ TEST_F(SynthRig, ADeclaredFrameCountCostsNoMemory) {
   EXPECT_EQ(test::listFolder(dir.path() / "out").size(), 3u);
 }
 
+// Leave-one-out with --SaveRenders: the renders are named by frame number (a dataset starting
+// at frame 7: FirstFrame, an index, 1 is frame 8, 0008.png, as 3dvo-recon and 3dvo-dec would
+// name it), and a CSV that
+// cannot be written leaves the output folder as it was (it was committed first, the previous
+// contents gone, and then the run failed).
+TEST_F(SynthRig, LeaveOneOutRendersAreFrameNumbersAndAFailedRunKeepsTheFolder) {
+  test::TempDir dir("loo-numbers");
+  const std::string app = std::string(TDVO_BIN_DIR) + "/3dvo-render";
+  std::filesystem::copy(folder_->file("rig"), dir.file("seven"),
+                        std::filesystem::copy_options::recursive);
+  // Frame numbers 7 and 8: every numbered file renamed, frames.first set.
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(dir.file("seven"))) {
+    const std::string name = entry.path().filename().string();
+    const size_t digits = name.find_first_of("0123456789");
+    if (!entry.is_regular_file() || digits == std::string::npos || name.find("background") == 0)
+      continue;
+    const int number = std::stoi(name.substr(digits, 4));
+    char renamed[64];
+    std::snprintf(renamed, sizeof renamed, "%s%04d%s", name.substr(0, digits).c_str(), number + 7,
+                  name.substr(digits + 4).c_str());
+    std::filesystem::rename(entry.path(),
+                            entry.path().parent_path() / (std::string(renamed) + ".new"));
+  }
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(dir.file("seven")))
+    if (entry.path().extension() == ".new")
+      std::filesystem::rename(entry.path(), entry.path().parent_path() / entry.path().stem());
+  std::string json = test::readText(dir.file("seven/dataset.json"));
+  const size_t first = json.find("\"first\": 0");
+  ASSERT_NE(first, std::string::npos);
+  json.replace(first, std::string("\"first\": 0").size(), "\"first\": 7");
+  test::writeText(dir.file("seven/dataset.json"), json);
+
+  const std::vector<std::string> args = {"-i",
+                                         "seven",
+                                         "--Mode=leave-one-out",
+                                         "--FirstFrame=1",
+                                         "--Cameras=cam00,cam02,cam04",
+                                         "--SaveRenders",
+                                         "-o",
+                                         "held"};
+  test::CommandResult r = test::run(dir, app, args);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(test::listFolder(dir.path() / "held" / "cam02"),
+            (std::vector<std::string>{"0008.png"}));
+  // The CSV's folder does not exist: the run fails, and the previous renders are still there.
+  std::vector<std::string> failing = args;
+  failing.push_back("--Overwrite");
+  failing.push_back("--Csv=nodir/x.csv");
+  r = test::run(dir, app, failing);
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("nodir/x.csv"), std::string::npos) << r.err;
+  EXPECT_EQ(test::listFolder(dir.path() / "held" / "cam02"),
+            (std::vector<std::string>{"0008.png"}));
+  EXPECT_EQ(test::listFolder(dir.path() / "held"),
+            (std::vector<std::string>{"cam00", "cam02", "cam04"}));
+}
+
 TEST_F(SynthRig, AppRendersOrbitsLeaveOneOutAndReportsBadInput) {
   test::TempDir dir("app");
   const std::string app = std::string(TDVO_BIN_DIR) + "/3dvo-render";

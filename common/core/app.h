@@ -12,6 +12,7 @@
 #include <string>
 
 #include "common/core/error.h"
+#include "common/core/file_io.h"
 #include "common/core/interrupt.h"
 #include "common/core/warnings.h"
 
@@ -21,6 +22,8 @@ template <class Body>
 int runApp(const char* app, Body body) {
   // Before any thread exists: an interrupted run removes its unfinished output files.
   installInterruptCleanup();
+  // No output of the run replaces or deletes a file it has read (file_io.h).
+  protectFilesRead(true);
   // What the libraries leave out or change of an input is said on stderr, with the app's name.
   setWarningHandler([app](const std::string& message) {
     std::fprintf(stderr, "%s: warning: %s\n", app, message.c_str());

@@ -6,6 +6,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -14,6 +15,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <tuple>
 
 #include "common/core/error.h"
 #include "common/core/interrupt.h"
@@ -47,9 +49,17 @@ namespace {
 
 namespace {
 
+// A file by device, inode and modification time: the time tells a file read from a later one
+// that was given the inode after the first was deleted (a long-lived program, the Python module,
+// reads and deletes many files), and a file changed since it was read is another file.
+using FileVersion = std::tuple<dev_t, ino_t, int64_t, int64_t>;
+FileVersion versionOf(const struct stat& st) {
+  return {st.st_dev, st.st_ino, int64_t(st.st_mtim.tv_sec), int64_t(st.st_mtim.tv_nsec)};
+}
+
 struct ReadFiles {
   std::mutex mutex;
-  std::set<std::pair<dev_t, ino_t>> files;
+  std::set<FileVersion> files;
 };
 ReadFiles& readFiles() {
   static ReadFiles registry;
@@ -60,7 +70,7 @@ void noteStat(const struct stat& st) {
   if (!S_ISREG(st.st_mode)) return;  // devices, FIFOs: nothing a folder's removal destroys
   ReadFiles& r = readFiles();
   const std::lock_guard<std::mutex> lock(r.mutex);
-  r.files.emplace(st.st_dev, st.st_ino);
+  r.files.insert(versionOf(st));
 }
 
 }  // namespace
@@ -75,10 +85,22 @@ void noteFileRead(const std::string& path) {
   if (::stat(path.c_str(), &st) == 0) noteStat(st);
 }
 
+namespace {
+std::atomic<bool> protectingFilesRead{false};
+}  // namespace
+
+bool protectFilesRead(bool on) {
+  return protectingFilesRead.exchange(on);
+}
+
+bool filesReadAreProtected() {
+  return protectingFilesRead.load();
+}
+
 bool wasFileRead(const struct stat& st) {
   ReadFiles& r = readFiles();
   const std::lock_guard<std::mutex> lock(r.mutex);
-  return r.files.count({st.st_dev, st.st_ino}) > 0;
+  return r.files.count(versionOf(st)) > 0;
 }
 
 std::vector<uint8_t> readFileBytes(const std::string& path, uint64_t maxBytes, const char* what) {
@@ -266,6 +288,10 @@ void StagedFiles::checkNew(const std::string& path, const std::string& target) {
   if (!added)
     throw Error(path + ": is also written as " + it->second +
                 " by this run; one output would replace the other");
+  // Nor may an output replace a file this run has read, whatever the app listed as inputs.
+  struct stat st;
+  if (filesReadAreProtected() && ::stat(target.c_str(), &st) == 0 && wasFileRead(st))
+    throw Error(path + ": is a file this run read (an input); refusing to overwrite it");
 }
 
 void StagedFiles::write(const std::string& path, const void* data, size_t size) {
@@ -556,7 +582,7 @@ void OutputFolder::commit() {
   }
   // Nothing this run read goes: a file read (noteFileRead) inside what would be replaced stops
   // the commit, the folder as it was. Links are not followed (removing a link removes no data).
-  for (const std::string& name : previous) {
+  for (const std::string& name : filesReadAreProtected() ? previous : std::vector<std::string>()) {
     const fs::path top = fs::path(folder_) / name;
     auto refuse = [&](const fs::path& file) {
       throw Error(folder_ + ": --Overwrite would delete " + file.string() +

@@ -22,13 +22,19 @@ constexpr uint64_t kMaxCfgFileBytes = uint64_t{1} << 20;     // cfg files, GOM l
 constexpr uint64_t kMaxTextFileBytes = uint64_t{1} << 24;    // dataset.json, calibration, paths
 constexpr uint64_t kMaxBinaryFileBytes = uint64_t{1} << 30;  // images, texture files
 
-// The files this process has read, by identity (device and inode): every reader of 3DVO notes
-// the file it opens, and OutputFolder::commit() refuses to delete one, whichever app read it
-// and whether or not the app listed it among its inputs (docs/robustness.md, "No data lost").
+// The files this process has read, by identity (device, inode and modification time, so that a
+// later file given a deleted one's inode is another file): every reader of 3DVO notes the file
+// it opens. In the apps (runApp, app.h, turns it on) OutputFolder::commit() then refuses to
+// delete one and StagedFiles (every output file) to replace one, whichever app read it and
+// whether or not the app listed it among its inputs (docs/robustness.md, "No data lost"). A
+// program using the library, which may mean to rewrite what it read, decides for itself.
 void noteFileRead(std::FILE* file);
 void noteFileRead(const std::string& path);  // for files a library opens by name (FFmpeg)
 // Whether `st` (a stat result) is a file this process has read.
 bool wasFileRead(const struct stat& st);
+// Turns the protection of the files read on or off (off by default); returns the old setting.
+bool protectFilesRead(bool on);
+bool filesReadAreProtected();
 
 // Reads a whole file into memory. Throws Error naming the file when it cannot be opened or read,
 // or when it holds more than `maxBytes` bytes (`what` names the kind of file in that message:

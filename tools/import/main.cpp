@@ -50,6 +50,8 @@ int main(int argc, char** argv) {
     // The dataset.json written must not be the input (e.g. -i DIR -o DIR on a dataset folder).
     {
       tdvo::InputFiles inputs;
+      for (const std::string& cfg : table.filesRead())
+        inputs.add(cfg);
       inputs.add(input);
       inputs.add(input + "/" + tdvo::kDatasetFileName);
       inputs.checkOutput(output + "/" + tdvo::kDatasetFileName);

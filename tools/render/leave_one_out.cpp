@@ -13,11 +13,11 @@
 
 namespace tdvo {
 
-std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const FrameRange& frames,
-                                        const RenderOptions& options,
-                                        const std::string& renderFolder, bool overwrite,
-                                        const std::vector<std::string>& inputs,
-                                        const Dataset* reference) {
+std::vector<LeaveOneOutRow> leaveOneOut(
+    const Dataset& dataset, const FrameRange& frames, const RenderOptions& options,
+    const std::string& renderFolder, bool overwrite, const std::vector<std::string>& inputs,
+    const Dataset* reference,
+    const std::function<void(const std::vector<LeaveOneOutRow>&)>& beforeCommit) {
   const size_t n = dataset.cameras.size();
   std::vector<LeaveOneOutRow> rows(n);
   for (size_t i = 0; i < n; ++i)
@@ -75,7 +75,8 @@ std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const FrameRange
         if (mask.pixels[p] != 0 && isFallback(sources.pixels[p])) ++row.fallbackPixels;
       if (!renderFolder.empty()) {
         char name[32];
-        std::snprintf(name, sizeof name, "%04d.png", frame);
+        // Named by the frame's number (as 3dvo-recon and 3dvo-dec name theirs), not its index.
+        std::snprintf(name, sizeof name, "%04d.png", dataset.firstFrame + frame);
         const std::string folder = (std::filesystem::path(renderFolder) / camera.name).string();
         const std::vector<uint8_t> png = encodePng(heldOut);
         files->write((std::filesystem::path(folder) / name).string(), png.data(), png.size());
@@ -83,6 +84,7 @@ std::vector<LeaveOneOutRow> leaveOneOut(const Dataset& dataset, const FrameRange
       progress.tick(++done);
     }
   }
+  if (beforeCommit) beforeCommit(rows);  // (e.g. staging the caller's CSV of these rows)
   if (files) files->commit();
   return rows;
 }

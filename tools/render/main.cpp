@@ -311,6 +311,9 @@ void runRender(const Params& p, const Dataset& d, const FrameRange& frames,
   }
   // The folder first: an MP4 inside it, made during the run, stays; one from a previous run
   // goes with the folder's previous contents and is then replaced by this run's.
+  // Every output written and closed before any is put in place: an MP4 that cannot be
+  // finished leaves the output folder as it was.
+  if (mp4) mp4->close();
   files.commit();
   if (mp4) mp4->finish();
   const double covered = stats.covered ? double(stats.covered) : 1.0;
@@ -372,11 +375,16 @@ int main(int argc, char** argv) {
       inputFiles.push_back(p.input);
       inputFiles.push_back(p.reference);
       const std::vector<std::string> inputs = protectedPaths(datasets, inputFiles);
-      const std::vector<LeaveOneOutRow> rows =
-          leaveOneOut(d, frames, p.render, p.saveRenders ? p.output : "", p.overwrite, inputs,
-                      reference ? &*reference : nullptr);
+      // The CSV is staged before the renders' folder is committed, and put in place after it: a
+      // CSV that cannot be written leaves the folder as it was.
+      StagedFiles csv;
+      const std::vector<LeaveOneOutRow> rows = leaveOneOut(
+          d, frames, p.render, p.saveRenders ? p.output : "", p.overwrite, inputs,
+          reference ? &*reference : nullptr, [&](const std::vector<LeaveOneOutRow>& all) {
+            if (!p.csv.empty()) csv.write(p.csv, formatLeaveOneOutCsv(all));
+          });
       std::fputs(formatLeaveOneOutTable(rows).c_str(), stdout);
-      if (!p.csv.empty()) writeFileAtomic(p.csv, formatLeaveOneOutCsv(rows));
+      csv.commit();
     }
     return 0;
   });

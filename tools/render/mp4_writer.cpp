@@ -161,15 +161,21 @@ void Mp4Writer::write(const Image& image) {
   s.encode(s.frame);
 }
 
-void Mp4Writer::finish() {
+void Mp4Writer::close() {
   State& s = *state_;
-  if (s.finished) return;
+  if (!s.open) return;
   s.encode(nullptr);
   int r = av_write_trailer(s.format);
   check(r >= 0, s.path + ": cannot finish the MP4: " + avError(r));
   r = avio_closep(&s.format->pb);
   s.open = false;
   check(r >= 0, s.path + ": closing failed: " + avError(r));
+}
+
+void Mp4Writer::finish() {
+  State& s = *state_;
+  if (s.finished) return;
+  close();
   s.staged.commit();
   s.finished = true;
 }

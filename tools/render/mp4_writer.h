@@ -28,7 +28,10 @@ class Mp4Writer {
 
   // Appends one RGB or RGBA frame (alpha dropped) of the size given at construction.
   void write(const Image& frame);
-  // Flushes the encoder, closes the file and renames it to its final name.
+  // Flushes the encoder and closes the (staged) file: every error of writing it happens here.
+  void close();
+  // close(), then renames the file to its final name (what a caller does last, after the other
+  // outputs of its run are in place: a run that fails before leaves the previous file).
   void finish();
 
   struct State;  // FFmpeg contexts (defined in the .cpp)
