@@ -202,6 +202,15 @@ TEST(Dataset, StructuralErrorsNameTheField) {
                                    "\"R\": [[1,0,0],[0,1,0],[0,0,1]], \"t\": [0,0,0], "
                                    "\"images\": \"b.png\"}");
   expectError(two, "camera name 'a' repeats");
+  // Values whose squares overflow or underflow (the renderer normalises up, measures t).
+  expectError(replaced(kMinimal, "\"t\": [0,0,0]", "\"t\": [1e300,0,1e300]"),
+              "cameras[0].t: components must be within 1e150 in magnitude");
+  const std::string withUp = replaced(kMinimal, "\"frames\"", "\"up\": [0,1,0], \"frames\"");
+  EXPECT_NO_THROW(parseDataset(withUp, "d.json", "."));
+  for (const char* up : {"[1e160,1e160,1e160]", "[1e-160,1e-160,1e-160]"})
+    expectError(replaced(withUp, "[0,1,0]", up),
+                "d.json: up: its largest component must be between 1e-150 and 1e150");
+  expectError(replaced(withUp, "[0,1,0]", "[0,0,0]"), "up must not be the zero vector");
 }
 
 // Camera names name output folders: anything but one plain file name is refused, so that no name

@@ -1,5 +1,7 @@
 #include "common/media/dataset.h"
 
+#include <algorithm>
+
 #include <climits>
 #include <cmath>
 #include <cstdio>
@@ -223,7 +225,17 @@ void checkDataset(const Dataset& d, const std::string& name) {
   check(d.frameCount >= 1, name + ": frames.count must be at least 1");
   check(d.firstFrame >= 0, name + ": frames.first must not be negative");
   check(std::isfinite(d.frameRate) && d.frameRate > 0, name + ": frames.rate must be positive");
-  if (d.up) check(norm(*d.up) > 0, name + ": up must not be the zero vector");
+  if (d.up) {
+    // Its length is computed (normalised for the renderer): squares of components beyond
+    // 1e150 overflow, below 1e-150 underflow; such an `up` gave a wrong or no direction.
+    const Vec3d& u = *d.up;
+    const double largest = std::max({std::fabs(u[0]), std::fabs(u[1]), std::fabs(u[2])});
+    check(largest > 0, name + ": up must not be the zero vector");
+    check(largest >= 1e-150 && largest <= 1e150,
+          name +
+              ": up: its largest component must be between 1e-150 and 1e150 in magnitude "
+              "(scale it; only its direction counts)");
+  }
   checkPath(d.meshes, name + ": meshes");
   check(!d.cameras.empty(), name + ": the dataset has no cameras");
   std::set<std::string> names;
@@ -246,6 +258,11 @@ void checkDataset(const Dataset& d, const std::string& name) {
     check(isRotation(c.R, 1e-6), where + ".R: not a rotation matrix (orthonormal, det +1)");
     check(std::isfinite(c.t[0]) && std::isfinite(c.t[1]) && std::isfinite(c.t[2]),
           where + ".t: must be finite");
+    // Camera positions and view directions are computed from t (squares of distances):
+    // beyond 1e150 they overflow, and orbits and leave-one-out views failed with messages that
+    // named no file.
+    check(std::fabs(c.t[0]) <= 1e150 && std::fabs(c.t[1]) <= 1e150 && std::fabs(c.t[2]) <= 1e150,
+          where + ".t: components must be within 1e150 in magnitude");
     check(dc.images.empty() != dc.video.empty(),
           where + ": needs exactly one of \"images\" and \"video\"");
     checkPath(dc.images, where + ".images");
