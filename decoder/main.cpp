@@ -395,11 +395,11 @@ int main(int argc, char** argv) {
                   const int64_t count =
                       frameCount > 0 ? frameCount
                                      : int64_t{sh.sh_first_frame} + sh.sh_frame_count - inputNumber(frame);
-                  check(count <= static_cast<int64_t>(kMaxGltfAnimationFrames),
-                        "the output range has " + std::to_string(count) + " frames, more than " +
-                            std::to_string(kMaxGltfAnimationFrames) +
-                            " for one animation file (it is made in memory): write per-frame "
-                            "files (MeshFormat) or fewer frames (FrameCount)");
+                  try {
+                    checkGltfAnimationFrames(static_cast<uint64_t>(std::max<int64_t>(count, 0)));
+                  } catch (const Error& e) {
+                    throw Error(std::string("the output range has ") + e.what());
+                  }
                   animation.emplace(sh.sh_frame_rate);
                 }
                 animation->add(decoded);

@@ -219,6 +219,7 @@ EncodedSequence Encoder::encode(const FrameSource& given, const FrameCallback& o
       });
   lines.push_back(sequenceHeaderHashLine(coded.stream, "the encoded stream"));
   coded.md5Lines = std::move(lines);
+  warnIfDecodersRefuse(coded.stream);
   return coded;
 }
 

@@ -288,7 +288,6 @@ EncodedSequence encodeSequence(const EncoderParams& inParams, const Grid& grid,
   out.attributeBytes = units.bytesOfType(UnitType::kAttributes);
   out.textureBytes = units.bytesOfType(UnitType::kTexture);
   out.stream = units.bytes();
-  warnIfDecodersRefuse(out.stream);
   return out;
 }
 

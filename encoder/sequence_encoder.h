@@ -105,7 +105,8 @@ EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
 // Says (warn(), common/core/warnings.h) when decoders with their default limits
 // (MaxMeshMemoryPerByte, MaxVertexFramesPerByte, MaxTexturePixelsPerByte; docs/robustness.md)
 // refuse `stream`, as for a fan of 160,000 triangles whose Draco vertices need more decoding
-// memory than the stream's bytes allow. encodeSequence calls it on every stream it makes.
+// memory than the stream's bytes allow. tdvo::Encoder::encode calls it on the stream it returns
+// (not encodeSequence: the Quality search's trial codings are not checked).
 void warnIfDecodersRefuse(const std::vector<uint8_t>& stream);
 
 }  // namespace tdvo

@@ -727,7 +727,8 @@ CATALOGUE_TEST(G12) {
 
 // The encoder says when its stream is one that decoders with their default limits refuse
 // (here the G12 stream: more decoded output per stream byte than MaxVertexFramesPerByte), as
-// encodeSequence does for every stream it makes; a stream within the limits passes in silence.
+// tdvo::Encoder::encode does for the stream it returns; a stream within the limits passes in
+// silence.
 TEST(EncoderWarnings, StreamsDefaultDecodersRefuseAreSaid) {
   std::vector<std::string> said;
   const WarningHandler before =

@@ -1143,11 +1143,16 @@ void writeGltf(const std::string& path, const Mesh& mesh, GltfContainer containe
 GltfAnimationWriter::GltfAnimationWriter(double frameRate) : frameRate_(frameRate) {}
 GltfAnimationWriter::~GltfAnimationWriter() = default;
 
-void GltfAnimationWriter::add(const Mesh& input) {
-  if (frames_ >= kMaxGltfAnimationFrames)
-    throw Error("more than " + std::to_string(kMaxGltfAnimationFrames) +
-                " frames for one animation file (it is made in memory): write per-frame files "
+void checkGltfAnimationFrames(uint64_t frames) {
+  if (frames > kMaxGltfAnimationFrames)
+    throw Error(std::to_string(frames) + " frames, more than " +
+                std::to_string(kMaxGltfAnimationFrames) +
+                " for one animation file (it is made in memory): write per-frame files "
                 "(MeshFormat) or fewer frames (FrameCount)");
+}
+
+void GltfAnimationWriter::add(const Mesh& input) {
+  checkGltfAnimationFrames(frames_ + 1);
   if (input.positions.size() > kMaxGltfAnimationVertexFrames - vertexFrames_)
     throw Error("more than " + std::to_string(kMaxGltfAnimationVertexFrames) +
                 " vertices x frames for one animation file (it is made in memory): write "

@@ -128,4 +128,8 @@ constexpr size_t kMaxGltfRunFrames = 256;
 constexpr size_t kMaxGltfAnimationFrames = 16384;
 constexpr uint64_t kMaxGltfAnimationVertexFrames = uint64_t{1} << 25;
 
+// Throws Error when an animation file of `frames` frames is more than one holds
+// (kMaxGltfAnimationFrames); 3dvo-dec asks before decoding the first frame, the writer on each.
+void checkGltfAnimationFrames(uint64_t frames);
+
 }  // namespace tdvo
