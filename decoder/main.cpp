@@ -296,7 +296,7 @@ int main(int argc, char** argv) {
                 meshFormatName + " writes " + meshOutputExtension(meshFormat) +
                 " files: give matching ones (or either alone)");
     }
-    checkFramePattern(meshPattern, "OutputMeshPattern");
+    checkOutputFramePattern(meshPattern, "OutputMeshPattern");
     if (!animationFile.empty()) {
       check(!outputDir.empty(), "AnimationFile needs an OutputDir (-o) to write it into");
       check(animationFile.size() > 4 && animationFile.substr(animationFile.size() - 4) == ".glb" &&

@@ -73,8 +73,12 @@ std::vector<Triangle> outputIndices(const std::vector<Triangle>& inputIndices,
   return out;
 }
 
-bool perVertex(const std::vector<Triangle>& indices, size_t values, const IntMesh& mesh) {
-  return values == mesh.positions.size() && indices == mesh.triangles;
+// Per-vertex values are coded per output vertex; when the encoder dropped an input vertex (one no
+// triangle uses) its value would go with it, so such a frame's values are coded per corner,
+// which keeps the input's lists and indices.
+bool perVertex(const std::vector<Triangle>& indices, size_t values, const IntMesh& mesh,
+               bool everyVertexKept) {
+  return everyVertexKept && values == mesh.positions.size() && indices == mesh.triangles;
 }
 
 // Values quantised at `bits` must stay below 2^24 steps of 2^-bits.
@@ -103,6 +107,10 @@ AttributesEncoding encodeAttributes(const IntMesh& input, const IMeshEncoding& i
   for (size_t j = 0; j < i.inputIndex.size(); ++j)
     inputOf[i.order.vertexOutput[j]] = i.inputIndex[j];
   const uint32_t maxValues = static_cast<uint32_t>(3 * i.order.triangles.size());
+  std::vector<bool> used(input.positions.size(), false);
+  for (uint32_t v : inputOf)
+    used[v] = true;
+  const bool everyVertexKept = std::find(used.begin(), used.end(), false) == used.end();
 
   AttributesUnit at;
   at.at_frame = frame;
@@ -138,7 +146,7 @@ AttributesEncoding encodeAttributes(const IntMesh& input, const IMeshEncoding& i
          " that no face corner refers to: left out (the stream carries at most one per corner)");
     values = std::move(kept);
   };
-  if (uvs && perVertex(in.uvTriangles, in.uvs.size(), input)) {
+  if (uvs && perVertex(in.uvTriangles, in.uvs.size(), input, everyVertexKept)) {
     at.at_uv_mode = static_cast<uint8_t>(UvMode::kPerVertex);
     for (uint32_t v : inputOf)
       m.uvs.push_back(in.uvs[v]);
@@ -152,7 +160,7 @@ AttributesEncoding encodeAttributes(const IntMesh& input, const IMeshEncoding& i
   if (normals == NormalMode::kComputed) {
     at.at_normal_mode = static_cast<uint8_t>(NormalMode::kComputed);
   } else if (normals != NormalMode::kNone &&
-             perVertex(in.normalTriangles, in.normals.size(), input)) {
+             perVertex(in.normalTriangles, in.normals.size(), input, everyVertexKept)) {
     at.at_normal_mode = static_cast<uint8_t>(NormalMode::kPerVertex);
     for (uint32_t v : inputOf)
       m.normals.push_back(in.normals[v]);

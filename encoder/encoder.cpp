@@ -9,6 +9,7 @@
 #include "common/core/config.h"
 #include "common/core/error.h"
 #include "common/core/md5.h"
+#include "common/core/warnings.h"
 #include "common/media/dataset.h"
 #include "encoder/input_frames.h"
 #include "encoder/quality.h"
@@ -162,6 +163,8 @@ EncodedSequence Encoder::encode(const std::vector<Mesh>& frames, const FrameCall
 EncodedSequence Encoder::encode(const FrameSource& given, const FrameCallback& onFrame,
                                 const TextureCallback& onTexture,
                                 const std::function<void(size_t frame)>& onFramesRead) {
+  // A frame read more than once (the bounds pass, Quality's trial, the coding) warns once.
+  WarnOnceScope once;
   // Every frame is checked as it is read, like a mesh file (finite positions, triangle indices
   // within its vertices), whatever the source: the coding tools assume it.
   FrameSource source = given;

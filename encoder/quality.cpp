@@ -80,19 +80,6 @@ void measure(Candidate& c, const EncoderParams& params, const SequenceBounds& bo
   c.j = c.distortion + lambda * c.bits;
 }
 
-// Silences warnings for its lifetime: the trial codes frames the real encode codes (and warns
-// about) again.
-class QuietWarnings {
- public:
-  QuietWarnings() : previous_(setWarningHandler([](const std::string&) {})) {}
-  ~QuietWarnings() { setWarningHandler(previous_); }
-  QuietWarnings(const QuietWarnings&) = delete;
-  QuietWarnings& operator=(const QuietWarnings&) = delete;
-
- private:
-  WarningHandler previous_;
-};
-
 // Setting either precision key means coding by hand: Quality derives nothing.
 bool codedByHand(const IsSetFunction& isSet) {
   return isSet("GridBits") || isSet("MotionQuantStep");
@@ -159,7 +146,8 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
       frames.push_back(source.read(k));
       names.push_back(source.name ? source.name(k) : "frame " + std::to_string(k));
     }
-    QuietWarnings quiet;
+    // The trial codes frames the real encode codes (and warns about) again.
+    SilenceWarningsScope quiet;
     for (size_t i = 0; i < candidates.size(); ++i) {
       measure(candidates[i], p, bounds, frames, names, source.count, target);
       if (candidates[i].j < candidates[best].j) best = i;

@@ -38,7 +38,7 @@ class GomWriter {
       warn(warning);
     // How normals are carried, said when it changes (the first time, and from the GOM on that
     // changes it), through the warning handler: a program using the library receives it, and
-    // Quality's trial codings (QuietWarnings) do not repeat it.
+    // Quality's trial codings (SilenceWarningsScope) do not repeat it.
     if (attributesPresent_ && gom.normals != normals_) {
       warn("normals from frame " + std::to_string(static_cast<long long>(first) + firstFrame_) +
            " on: " + gom.normals);

@@ -22,6 +22,7 @@
 #include "common/core/ply_io.h"
 #include "common/core/sequence.h"
 #include "common/core/tiny_gltf_config.h"
+#include "common/core/warnings.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/sequence_encoder.h"
 #include "tests/stream_units.h"
@@ -135,6 +136,29 @@ TEST(AttributeFiles, ObjReadsAndWritesTextureCoordinatesAndNormals) {
       sameBits(parseObj(formatObj(odd), "odd.obj").attributes.normals, odd.attributes.normals));
 }
 
+// OBJ's 'vt u [v [w]]': v defaults to 0; w, and values after a normal's x y z, are left out with
+// one warning per file naming the first such line.
+TEST(AttributeFiles, ObjOptionalAndExtraAttributeValues) {
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  std::vector<std::string> said;
+  const WarningHandler before =
+      setWarningHandler([&](const std::string& message) { said.push_back(message); });
+  const Mesh m = parseObj(
+      tri + "vt 0.25\nvt 0.5 0.75 0.5\nvt 1 1 2\nvn 0 0 1 9\nf 1/1/1 2/2/1 3/3/1\n", "w.obj");
+  setWarningHandler(before);
+  ASSERT_EQ(m.attributes.uvs.size(), 3u);
+  EXPECT_EQ(m.attributes.uvs[0], (Vec2f{0.25f, 0.0f}));
+  EXPECT_EQ(m.attributes.uvs[1], (Vec2f{0.5f, 0.75f}));
+  ASSERT_EQ(m.attributes.normals.size(), 1u);
+  ASSERT_EQ(said.size(), 2u);
+  EXPECT_EQ(said[0],
+            "w.obj:5: values after u v on 'vt' lines (w) are left out (this line and any "
+            "other)");
+  EXPECT_EQ(said[1],
+            "w.obj:7: values after x y z on 'vn' lines are left out (this line and any "
+            "other)");
+}
+
 TEST(AttributeFiles, ObjErrorsNameTheLine) {
   const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
   EXPECT_NE(errorOf([&] { parseObj(tri + "vt 0 0\nf 1/1 2/2 3/1\n", "a.obj"); })
@@ -147,8 +171,8 @@ TEST(AttributeFiles, ObjErrorsNameTheLine) {
   EXPECT_EQ(mixed.triangles.size(), 2u);
   EXPECT_TRUE(parseObj(tri + "f 1/7/2 2/7/2 3/7/2\n", "b.obj").attributes.empty());
   EXPECT_NE(errorOf([&] {
-              parseObj(tri + "vt 0\nf 1 2 3\n", "c.obj");
-            }).find("c.obj:4: texture coordinate needs two values"),
+              parseObj(tri + "vt\nf 1 2 3\n", "c.obj");
+            }).find("c.obj:4: texture coordinate needs a value"),
             std::string::npos);
   EXPECT_NE(errorOf([&] {
               parseObj(tri + "vn 0 0 nan\nf 1 2 3\n", "d.obj");
@@ -519,6 +543,33 @@ TEST(AttributesRoundTrip, ValuesNoCornerRefersToAreLeftOut) {
       {0, {0.0f, 0.0f}}, {1, {1.0f, 0.0f}}, {2, {0.25f, 0.75f}}};
   for (int k = 0; k < 3; ++k)
     EXPECT_EQ(a.uvs[a.uvTriangles[0][k]], expected.at(decoded.triangles[0][k])) << "corner " << k;
+}
+
+// Per-vertex OBJ values (the indices are the vertex indices) with a vertex no triangle uses: the
+// encoder drops the vertex (with a warning) but not its values: the file comes back with the
+// input's texture coordinate and normal lists and corner indices (coded per corner).
+TEST(AttributesRoundTrip, ADroppedVertexKeepsTheLists) {
+  test::TempDir dir("attributes-dropped-vertex");
+  std::filesystem::create_directories(dir.path() / "in");
+  const std::string lists =
+      "vt 0 0\nvt 0.125 0\nvt 0.875 0.875\nvt 0 0.125\nvt 0.125 0.125\n"
+      "vn 0 0 1\nvn 0 0.6 0.8\nvn 1 0 0\nvn 0 1 0\nvn 0.6 0 0.8\n"
+      "f 1/1/1 2/2/2 5/5/5\nf 1/1/1 5/5/5 4/4/4\n";
+  test::writeText(dir.file("in/000.obj"), "v 0 0 0\nv 1 0 0\nv 7 7 7\nv 0 1 0\nv 1 1 0\n" + lists);
+  test::writeText(dir.file("in/001.obj"),
+                  "v 0 0 0\nv 1 0 0\nv 7 7 7\nv 0 1 0\nv 1 1 0.5\n" + lists);
+  const test::CommandResult enc =
+      test::run(dir, kBin + "/3dvo-enc",
+                {"-c", TDVO_SOURCE_DIR "/cfg/d3dmc-lossless.cfg", "--InputMeshPattern=in/%03d.obj",
+                 "--Normals=coded", "-o", "x.3dvo"});
+  ASSERT_EQ(enc.exitCode, 0) << enc.err;
+  ASSERT_EQ(test::run(dir, kBin + "/3dvo-dec", {"-i", "x.3dvo", "-o", "out"}).exitCode, 0);
+  for (const char* frame : {"000", "001"}) {
+    const Mesh in = readMesh(dir.file(std::string("in/") + frame + ".obj"));
+    const Mesh out = readMesh(dir.file(std::string("out/0") + frame + ".obj"));
+    EXPECT_EQ(out.attributes, in.attributes) << frame;
+    EXPECT_EQ(out.positions.size(), 4u) << frame;
+  }
 }
 
 // A few frames of horse-gallop (shared data) given texture coordinates and normals: OBJ ->

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <set>
 #include <string>
@@ -741,6 +742,52 @@ TEST(EncoderWarnings, StreamsDefaultDecodersRefuseAreSaid) {
             std::string::npos)
       << said[0];
   EXPECT_NE(said[0].find("(MaxVertexFramesPerByte)"), std::string::npos) << said[0];
+}
+
+// A WarnOnceScope says each message once; nested scopes share the outermost one's memory, which
+// ends with it; what a SilenceWarningsScope drops is not remembered (said later, it is said).
+TEST(EncoderWarnings, OnceAndSilencedScopes) {
+  std::vector<std::string> said;
+  const WarningHandler before =
+      setWarningHandler([&](const std::string& message) { said.push_back(message); });
+  {
+    WarnOnceScope once;
+    {
+      SilenceWarningsScope quiet;
+      warn("b");
+    }
+    warn("a");
+    {
+      WarnOnceScope inner;
+      warn("a");
+      warn("b");
+    }
+    warn("b");
+  }
+  warn("a");
+  setWarningHandler(before);
+  EXPECT_EQ(said, (std::vector<std::string>{"a", "b", "a"}));
+}
+
+// 3dvo-enc reads the first frames more than once (the bounds pass, Quality's trial, the coding):
+// what the reader leaves out of a file is said once per file.
+TEST(EncoderWarnings, AFileReadMoreThanOnceWarnsOnce) {
+  TempDir dir("warn-once");
+  std::filesystem::create_directories(dir.path() / "w");
+  for (int k = 0; k < 6; ++k)
+    test::writeText(dir.file("w/000" + std::to_string(k) + ".obj"),
+                    "v 0 0 0 0.5 0.5 0.5\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n"
+                    "f 1 3 4\nf 2 3 4\n");
+  const CommandResult r =
+      test::run(dir, kBin + "/3dvo-enc", {"--InputMeshPattern=w/%04d.obj", "-o", "w.3dvo"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  for (int k = 0; k < 6; ++k) {
+    const std::string line = "w/000" + std::to_string(k) + ".obj:1: values after x y z";
+    size_t count = 0;
+    for (size_t at = r.err.find(line); at != std::string::npos; at = r.err.find(line, at + 1))
+      ++count;
+    EXPECT_EQ(count, 1u) << line << "\n" << r.err;
+  }
 }
 
 CATALOGUE_TEST(G13) {
@@ -1580,6 +1627,11 @@ CATALOGUE_TEST(D18) {
   test::writeBytes(dir_.file("x.3dvo"), baseStream());
   expectRow("D18", "3dvo-dec",
             {"-i", "x.3dvo", "-o", "out", "--MeshFormat=ply", "--OutputMeshPattern=f%03d.obj"});
+}
+
+CATALOGUE_TEST(D20) {
+  test::writeBytes(dir_.file("x.3dvo"), baseStream());
+  expectRow("D20", "3dvo-dec", {"-i", "x.3dvo", "-o", "out", "--OutputMeshPattern=/tmp/f%04d.obj"});
 }
 
 // ---- PLY and glTF input (3dvo-enc) ----

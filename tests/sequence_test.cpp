@@ -38,6 +38,18 @@ TEST(Sequence, PercentEscapes) {
   checkFramePattern("100%%/f%03d.obj", "X");
 }
 
+TEST(Sequence, OutputPatternsAreRelative) {
+  checkOutputFramePattern("sub/f%04d.obj", "OutputMeshPattern");
+  try {
+    checkOutputFramePattern("/tmp/f%04d.obj", "OutputMeshPattern");
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "OutputMeshPattern: '/tmp/f%04d.obj' is an absolute path; it names files inside "
+              "the output folder (give a relative path)");
+  }
+}
+
 TEST(Sequence, NoConversion) {
   EXPECT_EQ(patternError("frame.obj"),
             "InputMeshPattern: 'frame.obj' needs one frame-number conversion such as %04d");

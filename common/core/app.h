@@ -28,6 +28,8 @@ int runApp(const char* app, Body body) {
   setWarningHandler([app](const std::string& message) {
     std::fprintf(stderr, "%s: warning: %s\n", app, message.c_str());
   });
+  // A file the run reads twice warns once.
+  WarnOnceScope once;
   try {
     const int status = body();
     // What the app printed (its report, its summary) must have reached standard output: a full

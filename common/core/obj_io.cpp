@@ -58,6 +58,12 @@ class ObjParser {
       warn(name_ + ":" + std::to_string(extraVertexValuesLine_) +
            ": values after x y z on 'v' lines (w, or vertex colours) are left out (this line "
            "and any other)");
+    if (extraUvValuesLine_ > 0)
+      warn(name_ + ":" + std::to_string(extraUvValuesLine_) +
+           ": values after u v on 'vt' lines (w) are left out (this line and any other)");
+    if (extraNormalValuesLine_ > 0)
+      warn(name_ + ":" + std::to_string(extraNormalValuesLine_) +
+           ": values after x y z on 'vn' lines are left out (this line and any other)");
     if (mesh_.positions.empty()) throw Error(name_ + ": no vertices");
     if (mesh_.triangles.empty()) throw Error(name_ + ": no faces");
     // Triangles with a repeated vertex are kept here (the encoder drops them, with a warning),
@@ -122,13 +128,16 @@ class ObjParser {
       if (tokens.size() > 4 && extraVertexValuesLine_ == 0) extraVertexValuesLine_ = lineNumber_;
       mesh_.positions.push_back({number(tokens[1]), number(tokens[2]), number(tokens[3])});
     } else if (keyword == "vt") {
-      // u and v; a third coordinate (w) is allowed and ignored.
-      if (tokens.size() < 3) fail("texture coordinate needs two values");
+      // u [v [w]]: v defaults to 0 (as OBJ says); w is left out, with a warning.
+      if (tokens.size() < 2) fail("texture coordinate needs a value");
+      if (tokens.size() > 3 && extraUvValuesLine_ == 0) extraUvValuesLine_ = lineNumber_;
       if (mesh_.attributes.uvs.size() >= kMaxObjVertices)
         fail("more than " + std::to_string(kMaxObjVertices) + " texture coordinates");
-      mesh_.attributes.uvs.push_back({floatNumber(tokens[1]), floatNumber(tokens[2])});
+      mesh_.attributes.uvs.push_back(
+          {floatNumber(tokens[1]), tokens.size() > 2 ? floatNumber(tokens[2]) : 0.0f});
     } else if (keyword == "vn") {
       if (tokens.size() < 4) fail("normal needs three values");
+      if (tokens.size() > 4 && extraNormalValuesLine_ == 0) extraNormalValuesLine_ = lineNumber_;
       if (mesh_.attributes.normals.size() >= kMaxObjVertices)
         fail("more than " + std::to_string(kMaxObjVertices) + " normals");
       mesh_.attributes.normals.push_back(
@@ -179,8 +188,7 @@ class ObjParser {
     if (!parseNumber(token, value)) fail("bad number '" + std::string(token) + "'");
     // Digits too large for a double read as infinite: beyond the range, as 1e301 is.
     const bool digits = token.find_first_of("iInN") == std::string_view::npos;
-    if (!std::isfinite(value) && !digits)
-      fail("non-finite number '" + std::string(token) + "'");
+    if (!std::isfinite(value) && !digits) fail("non-finite number '" + std::string(token) + "'");
     if (!std::isfinite(value) || isBeyondCoordinateRange(value))
       fail("number '" + std::string(token) + "'" + kBeyondCoordinateRange);
     return value;
@@ -286,6 +294,8 @@ class ObjParser {
   LargestIndex largest_;  // of the vertex indices
   size_t firstFaceLine_ = 0;
   size_t extraVertexValuesLine_ = 0;  // the first 'v' line with more than x y z
+  size_t extraUvValuesLine_ = 0;      // the first 'vt' line with more than u v
+  size_t extraNormalValuesLine_ = 0;  // the first 'vn' line with more than x y z
   size_t properTriangles_ = 0;        // triangles with three different vertices
   Attribute uv_ = Attribute("texture coordinate");
   Attribute normal_ = Attribute("normal");

@@ -62,6 +62,14 @@ void checkFramePattern(const std::string& pattern, const std::string& what) {
   findConversion(pattern, what);
 }
 
+void checkOutputFramePattern(const std::string& pattern, const std::string& what) {
+  checkFramePattern(pattern, what);
+  if (!pattern.empty() && pattern[0] == '/')
+    throw Error(what + ": '" + pattern +
+                "' is an absolute path; it names files inside the output folder (give a relative "
+                "path)");
+}
+
 std::string framePath(const std::string& pattern, int frame) {
   const Conversion c = findConversion(pattern, "frame pattern");
   char number[48];

@@ -9,6 +9,10 @@ namespace tdvo {
 // Checks that `pattern` holds exactly one integer conversion (%d, %Nd or %0Nd; "%%" is a
 // literal percent sign). Throws Error naming `what` (e.g. "InputMeshPattern") otherwise.
 void checkFramePattern(const std::string& pattern, const std::string& what);
+// checkFramePattern for a pattern of files inside an app's output folder (3dvo-dec's
+// OutputMeshPattern): it must also be a relative path (an absolute one would be read as inside
+// the folder, or not at all, depending on how it is joined).
+void checkOutputFramePattern(const std::string& pattern, const std::string& what);
 
 // The file name of frame `frame`: the pattern with its conversion replaced by the number.
 std::string framePath(const std::string& pattern, int frame);

@@ -2,6 +2,8 @@
 
 #include <cstdio>
 #include <mutex>
+#include <set>
+#include <string>
 #include <utility>
 
 namespace tdvo {
@@ -18,6 +20,18 @@ WarningHandler& handler() {
   return h;
 }
 
+// The open WarnOnceScopes and what was said during the outermost one.
+struct OnceState {
+  int depth = 0;
+  int silenced = 0;  // open SilenceWarningsScopes
+  std::set<std::string> said;
+};
+
+OnceState& onceState() {
+  static OnceState state;
+  return state;
+}
+
 }  // namespace
 
 WarningHandler setWarningHandler(WarningHandler h) {
@@ -27,10 +41,34 @@ WarningHandler setWarningHandler(WarningHandler h) {
 
 void warn(const std::string& message) {
   std::lock_guard<std::mutex> lock(warningMutex());
+  OnceState& once = onceState();
+  if (once.silenced > 0) return;
+  if (once.depth > 0 && !once.said.insert(message).second) return;
   if (handler())
     handler()(message);
   else
     std::fprintf(stderr, "warning: %s\n", message.c_str());
+}
+
+WarnOnceScope::WarnOnceScope() {
+  std::lock_guard<std::mutex> lock(warningMutex());
+  ++onceState().depth;
+}
+
+WarnOnceScope::~WarnOnceScope() {
+  std::lock_guard<std::mutex> lock(warningMutex());
+  OnceState& once = onceState();
+  if (--once.depth == 0) once.said.clear();
+}
+
+SilenceWarningsScope::SilenceWarningsScope() {
+  std::lock_guard<std::mutex> lock(warningMutex());
+  ++onceState().silenced;
+}
+
+SilenceWarningsScope::~SilenceWarningsScope() {
+  std::lock_guard<std::mutex> lock(warningMutex());
+  --onceState().silenced;
 }
 
 }  // namespace tdvo

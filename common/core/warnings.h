@@ -19,4 +19,27 @@ WarningHandler setWarningHandler(WarningHandler handler);
 // threads at once (calls are serialised).
 void warn(const std::string& message);
 
+// While one exists, a message identical to one already said during its life is not said again:
+// a run that reads a file more than once (the encoder's bounds pass, Quality's trial and the
+// coding) says what the reader left out once. Scopes nest (the outermost one's life counts) and
+// are process-wide, as the handler is; runApp and tdvo::Encoder::encode open one. It remembers
+// each distinct message until it ends.
+class WarnOnceScope {
+ public:
+  WarnOnceScope();
+  ~WarnOnceScope();
+  WarnOnceScope(const WarnOnceScope&) = delete;
+  WarnOnceScope& operator=(const WarnOnceScope&) = delete;
+};
+
+// While one exists, warnings are dropped, and not remembered by a WarnOnceScope: work done again
+// later for real (the Quality search's trial codings) warns then. Process-wide; scopes nest.
+class SilenceWarningsScope {
+ public:
+  SilenceWarningsScope();
+  ~SilenceWarningsScope();
+  SilenceWarningsScope(const SilenceWarningsScope&) = delete;
+  SilenceWarningsScope& operator=(const SilenceWarningsScope&) = delete;
+};
+
 }  // namespace tdvo

@@ -166,7 +166,7 @@ void checkReconParams(const ReconParams& p) {
     checkFramePattern(p.inputMeshPattern, "InputMeshPattern");
     check(p.frameCount > 0, "InputMeshPattern needs FrameCount");
   }
-  checkFramePattern(p.outputMeshPattern, "OutputMeshPattern");
+  checkOutputFramePattern(p.outputMeshPattern, "OutputMeshPattern");
   check(p.volumeMin.empty() == p.volumeMax.empty(),
         "VolumeMin and VolumeMax must be given together");
   check(p.trackingOptions.finalStiffness <= p.trackingOptions.stiffness,

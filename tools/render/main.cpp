@@ -235,7 +235,7 @@ std::vector<std::string> protectedPaths(const std::vector<const Dataset*>& datas
 void runRender(const Params& p, const Dataset& d, const FrameRange& frames,
                const std::vector<std::string>& inputs) {
   check(!p.output.empty(), "no output folder given (-o DIR)");
-  checkFramePattern(p.outputPattern, "OutputPattern");
+  checkOutputFramePattern(p.outputPattern, "OutputPattern");
   std::vector<CameraFrames> cameraFrames;
   for (size_t i = 0; i < d.cameras.size(); ++i)
     cameraFrames.emplace_back(d, i);

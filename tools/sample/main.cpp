@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
     table.addVersionLines(mediaLibraryVersions());
     if (!table.parseCommandLine(argc, argv)) return 0;
     check(!outputDir.empty(), "no output folder given (-o DIR; see --help)");
-    checkFramePattern(pattern, "OutputMeshPattern");
+    checkOutputFramePattern(pattern, "OutputMeshPattern");
     OutputFolder outputs(outputDir, overwrite, table.filesRead());
     const std::vector<Mesh> frames = deformingBlob(subdivisions, frameCount);
     for (int f = 0; f < frameCount; ++f)
