@@ -4,6 +4,7 @@ import argparse
 import os
 import shlex
 import sys
+import tempfile
 
 from . import job as job_module
 from . import security
@@ -91,6 +92,43 @@ def _results_dir(args, sweep):
     return os.path.abspath(results)
 
 
+def _inside(path, folder):
+    """True when `path` is `folder` or lies inside it (both real absolute paths)."""
+    return path == folder or path.startswith(folder.rstrip(os.sep) + os.sep)
+
+
+def _check_page_folder(page, results_dir, scratch):
+    """The page's folder of figures must not be, nor hold, what the run itself writes (the
+    results folder, --scratch), nor be one of the results folder's own folders: the run would
+    fill it and then refuse it as someone else's folder (check_page) after every job ran."""
+    figures = os.path.realpath(page[:-3])
+    results = os.path.realpath(results_dir)
+    for folder, what in ((results, "the results folder"),
+                         (os.path.realpath(scratch) if scratch else None, "the --scratch folder")):
+        if folder and _inside(folder, figures):
+            raise SweepError("%s: the page's folder of figures %s would %s %s %s; name another "
+                             "page or folder" % (page, page[:-3],
+                                                 "be" if folder == figures else "hold", what,
+                                                 folder))
+    for name in ("jobs", "failed"):
+        if figures == os.path.join(results, name):
+            raise SweepError("%s: the page's folder of figures %s is the results folder's %s/ "
+                             "folder; name another page" % (page, page[:-3], name))
+
+
+def _check_scratch(scratch):
+    """--scratch of a local run: a folder (made when missing) where the jobs can make their
+    temporary folders, checked before any job runs."""
+    if os.path.exists(scratch) and not os.path.isdir(scratch):
+        raise SweepError("%s: --scratch: not a folder" % scratch)
+    try:
+        os.makedirs(scratch, exist_ok=True)
+        os.rmdir(tempfile.mkdtemp(prefix="3dvo-rd-check-", dir=scratch))
+    except OSError as e:
+        raise SweepError("%s: --scratch: cannot make the jobs' temporary folders there (%s)"
+                         % (scratch, e.strerror or e)) from None
+
+
 def _command_line(sweep, page):
     """The command that regenerates a page, paths relative to the sweep root. Where the cache
     lives (--results) changes nothing in the page, so the command leaves it out."""
@@ -115,6 +153,7 @@ def main(argv=None):
         page = getattr(args, "report", None) or getattr(args, "out", None)
         if page:
             check_page(page)
+            _check_page_folder(page, results_dir, getattr(args, "scratch", None))
         if args.command == "list":
             identity = Identity(bin_dir)
             for j in sweep.jobs():
@@ -131,29 +170,46 @@ def main(argv=None):
         if args.command == "run":
             try:
                 tls = security.tls_options(args.tls_ca_file, args.tls_cert, args.tls_key)
+                if args.scheduler is not None:
+                    security.check_scheduler(args.scheduler)
             except ValueError as e:
                 print("3dvo-rd: error: %s" % e, file=sys.stderr)
                 return 1
+            if args.scratch and args.scheduler is None:
+                _check_scratch(args.scratch)   # (a cluster's is on its workers)
             summary, results = run_sweep(sweep, bin_dir, results_dir, scheduler=args.scheduler,
                                          jobs=args.jobs, force=args.force, timeout=args.timeout,
                                          scratch_dir=args.scratch, tls=tls)
-            identity_hashes = Identity(bin_dir).binary_hashes
             page = args.report
-            complete = summary.failed == 0 and not summary.interrupted
-            write_outputs(sweep, results, identity_hashes, results_dir,
-                          page if complete else None,
-                          _command_line(sweep, page) if page else None)
-            print(summary.line())
-            print("rows: %s" % os.path.join(results_dir, "rd.csv"))
-            if page and complete:
-                print("page: %s" % page)
-            elif page:
-                print("page: not written (the sweep is incomplete)")
+            missing = sum(1 for r in results if r is None)
+
+            def say(text, file=sys.stdout):
+                try:
+                    print(text, file=file)
+                except OSError:
+                    # After SIGHUP the terminal is gone: the exit status still says 130.
+                    if not summary.interrupted:
+                        raise
+
+            say(summary.line())
+            if missing:
+                # As `report` without --partial: rd.csv, bd.csv and the page of the last
+                # complete run stay as they are.
+                say("3dvo-rd: %d of %d jobs have no result, so %s%s are left as they were; "
+                    "`3dvo-rd report --partial` writes partial tables"
+                    % (missing, len(results), os.path.join(results_dir, "rd.csv"),
+                       ", bd.csv and the page %s" % page if page else " and bd.csv"),
+                    file=sys.stderr)
+            else:
+                write_outputs(sweep, results, Identity(bin_dir).binary_hashes, results_dir,
+                              page, _command_line(sweep, page) if page else None)
+                say("rows: %s" % os.path.join(results_dir, "rd.csv"))
+                if page:
+                    say("page: %s" % page)
             if summary.interrupted:
-                print("interrupted: finished jobs are cached; rerun to continue",
-                      file=sys.stderr)
+                say("interrupted: finished jobs are cached; rerun to continue", file=sys.stderr)
                 return 130
-            return 1 if summary.failed else 0
+            return 1 if summary.failed or missing else 0
         # report
         identity = Identity(bin_dir)
         results = [job_module.read_result(results_dir, identity.key(j)) for j in sweep.jobs()]

@@ -391,13 +391,23 @@ def run_job(spec):
             cached["status"] = "cached"
             return cached
     scratch = spec.get("scratch_dir") or None
-    if scratch:
-        os.makedirs(scratch, exist_ok=True)
-    workdir = tempfile.mkdtemp(prefix="3dvo-rd-" + key[:12] + "-", dir=scratch)
     timeout = spec.get("timeout") or None
     binaries = spec["binaries"]
     base = {"format": RESULT_FORMAT, "key": key, "job": spec["record"],
             "host": socket.gethostname(), "executor": _executor()}
+    try:
+        if scratch:
+            os.makedirs(scratch, exist_ok=True)
+        workdir = tempfile.mkdtemp(prefix="3dvo-rd-" + key[:12] + "-", dir=scratch)
+    except OSError as e:
+        # A failure of this machine's scratch folder (a file, unwritable), in one line.
+        result = dict(base)
+        result.update({"status": "failed", "stage": "scratch", "command": [], "returncode": None,
+                       "error": "cannot make a temporary folder in %s (%s)"
+                       % (scratch or tempfile.gettempdir(), e.strerror or e),
+                       "stderr_tail": ""})
+        write_json_atomic(failure_path(results_dir, key), result)
+        return result
     try:
         encode_command = ([binaries["3dvo-enc"]] + spec["encoder_args"] +
                           ["--BitstreamFile=stream.3dvo"])

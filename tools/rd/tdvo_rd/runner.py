@@ -74,16 +74,40 @@ def _exception_record(spec, exc_text):
             "command": [], "error": "exception in the job", "stderr_tail": exc_text}
 
 
+# Signals that end a run as Ctrl-C does (KeyboardInterrupt): SIGTERM (kill, a batch system's
+# time limit) and SIGHUP (the terminal closed). Either way the running commands are stopped and
+# their folders removed; without this a hangup would leave them running (each leads a session
+# of its own, job.py) and exit at once with 129.
+INTERRUPT_SIGNALS = (signal.SIGTERM, signal.SIGHUP)
+
+
+class _SignalsInterrupt:
+    """While active, the INTERRUPT_SIGNALS that have their default action raise
+    KeyboardInterrupt in the main thread (a signal set to something else, e.g. SIG_IGN by
+    nohup, is left alone)."""
+
+    def __enter__(self):
+        self.previous = {}
+
+        def interrupt(signum, frame):
+            raise KeyboardInterrupt()
+
+        for signum in INTERRUPT_SIGNALS:
+            previous = signal.getsignal(signum)
+            if previous in (signal.SIG_DFL, None):
+                self.previous[signum] = previous
+                signal.signal(signum, interrupt)
+        return self
+
+    def __exit__(self, *exc):
+        for signum, previous in self.previous.items():
+            signal.signal(signum, previous or signal.SIG_DFL)
+        return False
+
+
 def _run_local(pending, jobs, on_result):
-    """Runs the specs on a local thread pool; on Ctrl-C (or SIGTERM) stops the children and
-    re-raises KeyboardInterrupt."""
-    previous = signal.getsignal(signal.SIGTERM)
-
-    def terminate(signum, frame):
-        raise KeyboardInterrupt()
-
-    if previous in (signal.SIG_DFL, None):
-        signal.signal(signal.SIGTERM, terminate)
+    """Runs the specs on a local thread pool; on Ctrl-C (or INTERRUPT_SIGNALS, see run_sweep)
+    stops the children and re-raises KeyboardInterrupt."""
     pool = concurrent.futures.ThreadPoolExecutor(max_workers=jobs)
     try:
         futures = {pool.submit(job_module.run_job, spec): spec for spec in pending}
@@ -101,8 +125,6 @@ def _run_local(pending, jobs, on_result):
         raise
     finally:
         pool.shutdown(wait=True)
-        if previous in (signal.SIG_DFL, None):
-            signal.signal(signal.SIGTERM, previous or signal.SIG_DFL)
 
 
 def _run_dask(pending, scheduler, on_result, tls=None, log=None):
@@ -126,6 +148,13 @@ def _run_dask(pending, scheduler, on_result, tls=None, log=None):
                          % (scheduler, type(e).__name__, e)) from None
     futures = {}
     try:
+        try:
+            workers = len(client.scheduler_info().get("workers", {}))
+        except Exception:  # noqa: BLE001 - only for the message below
+            workers = None
+        if workers == 0:
+            print("3dvo-rd: waiting for workers: the Dask scheduler %s has none yet"
+                  % security.scheduler_address(scheduler), file=log or sys.stderr, flush=True)
         for spec in pending:
             future = client.submit(job_module.run_job, spec, key="3dvo-rd-" + spec["key"],
                                    retries=DASK_RETRIES)
@@ -196,10 +225,11 @@ def run_sweep(sweep, bin_dir, results_dir, scheduler=None, jobs=None, force=Fals
 
     try:
         if pending:
-            if scheduler:
-                _run_dask(pending, scheduler, on_result, tls=tls, log=log)
-            else:
-                _run_local(pending, jobs or os.cpu_count() or 1, on_result)
+            with _SignalsInterrupt():
+                if scheduler:
+                    _run_dask(pending, scheduler, on_result, tls=tls, log=log)
+                else:
+                    _run_local(pending, jobs or os.cpu_count() or 1, on_result)
     except KeyboardInterrupt:
         summary.interrupted = True
     finally:

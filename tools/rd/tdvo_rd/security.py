@@ -19,10 +19,32 @@ def scheduler_address(scheduler):
     if os.path.isfile(scheduler):
         try:
             with open(scheduler, encoding="utf-8") as f:
-                return json.load(f).get("address")
+                address = json.load(f).get("address")
         except (OSError, ValueError, AttributeError):
             return None
+        return address if isinstance(address, str) else None
     return scheduler
+
+
+def check_scheduler(scheduler):
+    """Raises ValueError, naming the problem in one line, when `scheduler` (--scheduler) names
+    no scheduler: an empty address, or a file that is not a scheduler file (a JSON object with
+    an "address" string, as `dask scheduler --scheduler-file` writes)."""
+    if not scheduler.strip():
+        raise ValueError("--scheduler: empty address (leave the option out to run on the local "
+                         "pool)")
+    if not os.path.isfile(scheduler):
+        return
+    try:
+        with open(scheduler, encoding="utf-8") as f:
+            data = json.load(f)
+    except OSError as e:
+        raise ValueError("%s: cannot read the scheduler file (%s)" % (scheduler, e.strerror))
+    except ValueError as e:
+        raise ValueError("%s: not a Dask scheduler file (%s)" % (scheduler, e))
+    address = data.get("address") if isinstance(data, dict) else None
+    if not isinstance(address, str) or not address.strip():
+        raise ValueError("%s: not a Dask scheduler file (no \"address\" string)" % scheduler)
 
 
 def is_loopback(host):

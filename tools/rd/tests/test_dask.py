@@ -60,7 +60,8 @@ class LocalCluster:
                                          "--death-timeout", str(START_TIMEOUT)])
         from distributed import Client
         with Client(self.address, timeout=START_TIMEOUT) as client:
-            client.wait_for_workers(workers, timeout=START_TIMEOUT)
+            if workers:
+                client.wait_for_workers(workers, timeout=START_TIMEOUT)
 
     def kill(self, name):
         process = self.processes[name]
@@ -141,6 +142,35 @@ class DaskRunTest(TempDirTestCase):
                                             self.cluster.scheduler_file))
         self.assertIn("12 jobs: 0 ran, 12 cached, 0 failed", out.stdout)
         self.assertEqual(support.count_lines(self.count), 2 * JOBS)
+
+    def test_a_scheduler_without_workers_is_said_to_be_waited_for(self):
+        # Nothing would run: 3dvo-rd says on stderr that it waits, and a hangup (the terminal
+        # closed) ends it as an interrupt does.
+        self.cluster.start(workers=0)
+        err_path = os.path.join(self.tmp, "stderr.txt")
+        with open(err_path, "w") as err:
+            process = subprocess.Popen(
+                support.rd_command(*self.run_args("dask", support.bin_dir(), "--scheduler",
+                                                  self.cluster.address)),
+                stdout=subprocess.PIPE, stderr=err, text=True)
+        try:
+            deadline = time.monotonic() + START_TIMEOUT
+            while "waiting for workers" not in support.read_text(err_path):
+                self.assertIsNone(process.poll(), support.read_text(err_path))
+                self.assertLess(time.monotonic(), deadline, "no message:\n" +
+                                support.read_text(err_path))
+                time.sleep(0.1)
+            process.send_signal(signal.SIGHUP)
+            stdout, _ = process.communicate(timeout=60)
+        finally:
+            if process.poll() is None:
+                process.kill()
+                process.wait()
+        stderr = support.read_text(err_path)
+        self.assertIn("3dvo-rd: waiting for workers: the Dask scheduler %s has none yet\n"
+                      % self.cluster.address, stderr)
+        self.assertEqual(process.returncode, 130, stdout + stderr)
+        self.assertIn("12 jobs: 0 ran, 0 cached, 0 failed, 12 not run (interrupted)", stdout)
 
     def test_killing_a_worker_mid_sweep_loses_no_row(self):
         # Slow encodes (0.4 s each) so that the kill lands while both workers are busy.

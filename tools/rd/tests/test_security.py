@@ -34,6 +34,24 @@ class SchedulerWarningTest(unittest.TestCase):
                 json.dump({"address": "tls://192.168.1.7:8786"}, f)
             self.assertIsNone(security.insecure_scheduler_warning(path))
 
+    def test_a_scheduler_that_names_no_scheduler_is_refused(self):
+        with self.assertRaisesRegex(ValueError, "--scheduler: empty address"):
+            security.check_scheduler("")
+        security.check_scheduler("tcp://127.0.0.1:8786")
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "scheduler.json")
+            for text in ('{"address": 5}', '["tcp://127.0.0.1:8786"]', '{}', "not json"):
+                with self.subTest(text=text):
+                    with open(path, "w") as f:
+                        f.write(text)
+                    with self.assertRaisesRegex(ValueError, "scheduler.json: not a Dask "
+                                                            "scheduler file"):
+                        security.check_scheduler(path)
+                    self.assertIsNone(security.insecure_scheduler_warning(path))
+            with open(path, "w") as f:
+                json.dump({"address": "tcp://127.0.0.1:8786"}, f)
+            security.check_scheduler(path)
+
     def test_tls_options_go_together(self):
         self.assertIsNone(security.tls_options(None, None, None))
         with tempfile.TemporaryDirectory() as folder:

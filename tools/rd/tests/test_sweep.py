@@ -1,12 +1,16 @@
 """Sweep files: expansion into jobs, configuration merge order, errors, cache keys."""
 
 import os
+import resource
 import subprocess
 import sys
 import textwrap
+import time
+from unittest import mock
 
 from tests import support
 from tests.support import TempDirTestCase
+from tdvo_rd import sweep as sweep_module
 from tdvo_rd.sweep import Identity, Sweep, SweepError, read_cfg_file
 
 
@@ -139,6 +143,102 @@ class SweepTest(TempDirTestCase):
         path = self.write("sweeps/syntax.toml", "[sweep\n")
         with self.assertRaisesRegex(SweepError, "syntax.toml"):
             Sweep(path)
+
+    def test_a_mode_with_no_job_is_an_error(self):
+        # An empty list would silently drop the mode from the sweep; leaving the key out is
+        # how to ask for one job per sequence, or for every sequence.
+        for extra, message in (
+                ("[[mode]]\nname = \"e\"\nsettings = []\n",
+                 "s.toml: \\[\\[mode\\]\\] 'e': settings is empty"),
+                ("[[mode]]\nname = \"f\"\nsequences = []\n",
+                 "s.toml: \\[\\[mode\\]\\] 'f': sequences is empty")):
+            with self.subTest(message=message):
+                self.write("sweeps/s.toml", self.sweep_text(extra))
+                with self.assertRaisesRegex(SweepError, message):
+                    Sweep(self.path)
+
+    def test_a_sweep_file_that_is_not_utf8_is_an_error(self):
+        with open(self.path, "wb") as f:
+            f.write(b'[sweep]\nname = "caf\xe9"\n')
+        with self.assertRaisesRegex(SweepError, "s.toml: not UTF-8 text"):
+            Sweep(self.path)
+
+    def run_rd_bounded(self, *args):
+        """3dvo-rd with 1 GiB of address space and a minute: what a sweep file asks for must
+        be refused, not attempted."""
+        def limit():
+            resource.setrlimit(resource.RLIMIT_AS, (1 << 30, 1 << 30))
+
+        return subprocess.run(support.rd_command(*args), stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True, timeout=60, preexec_fn=limit)
+
+    def test_frame_counts_and_widths_beyond_the_apps_limits_are_refused_at_once(self):
+        # A sweep file's size bounds what checking it costs: frame_count and first_frame within
+        # 3dvo-enc's FrameCount and FirstFrame ranges, the %0Nd width within the apps' 32.
+        base = self.sweep_text()
+        cases = [
+            (base.replace("frame_count = 3", "frame_count = 1000000000000"),
+             "frame_count must be 1 .. 1000000"),
+            (base.replace("frame_count = 3", "frame_count = 1000001"),
+             "frame_count must be 1 .. 1000000"),
+            (base.replace("frame_count = 3", "frame_count = 0"),
+             "frame_count must be 1 .. 1000000"),
+            (base.replace("first_frame = 1", "first_frame = -1"),
+             "first_frame must be 0 .. 1000000000"),
+            (base.replace("data/a/%d.obj", "data/a/%09999999999d.obj"),
+             "pattern: the width of its frame number conversion is at most 32"),
+            (base.replace("data/a/%d.obj", "data/a/%0999999999999999999999d.obj"),
+             "pattern: the width of its frame number conversion is at most 32"),
+            (base.replace("data/a/%d.obj", "data/a/%0" + "9" * 5000 + "d.obj"),
+             "pattern: the width of its frame number conversion is at most 32"),
+            (base.replace("data/a/%d.obj", "data/a/%33d.obj"),
+             "pattern: the width of its frame number conversion is at most 32"),
+        ]
+        for text, message in cases:
+            with self.subTest(message=message, text=text[190:260]):
+                path = self.write("sweeps/big.toml", text)
+                start = time.monotonic()
+                out = self.run_rd_bounded("list", path, "--results",
+                                          os.path.join(self.tmp, "results"), "--bin-dir",
+                                          self.bin)
+                self.assertLess(time.monotonic() - start, 10)
+                self.assertEqual(out.returncode, 1, out.stderr[-2000:])
+                self.assertEqual(out.stderr.count("\n"), 1, out.stderr[-2000:])
+                self.assertTrue(out.stderr.startswith("3dvo-rd: error: %s: [[sequence]] 'a': "
+                                                      % path), out.stderr[-2000:])
+                self.assertIn(message, out.stderr)
+        # The widest conversion the apps take is fine.
+        self.write("sweeps/big.toml", base.replace("data/a/%d.obj", "data/a/%032d.obj"))
+        self.assertEqual(Sweep(os.path.join(self.tmp, "sweeps/big.toml")).sequences[0]
+                         .frame_paths().__next__(), os.path.join(self.tmp, "data/a/" +
+                                                                 "%032d.obj" % 1))
+
+    def test_input_frames_are_named_one_at_a_time(self):
+        # The most frames 3dvo-enc codes, of which 3 exist: the first missing one stops the
+        # hashing before the names of the others are made.
+        self.write("sweeps/s.toml", self.sweep_text().replace("frame_count = 3",
+                                                              "frame_count = 1000000"))
+        job = Sweep(self.path).jobs()[0]
+        with mock.patch.object(sweep_module, "frame_path",
+                               wraps=sweep_module.frame_path) as frame_path:
+            with self.assertRaisesRegex(SweepError,
+                                        "sequence 'a': cannot read input frame .*a/4.obj"):
+                Identity(self.bin).key(job)
+        self.assertEqual(frame_path.call_count, 4)
+
+    def test_a_scratch_folder_that_cannot_be_made_is_a_one_line_failure(self):
+        # On a Dask worker --scratch is the worker's: a job that cannot make its folder there
+        # fails with a one-line reason (a local run checks --scratch before any job, cli.py).
+        from tdvo_rd import job
+        results = os.path.join(self.tmp, "results")
+        spec = {"key": "0" * 64, "results_dir": results, "scratch_dir": self.path,
+                "timeout": None, "force": True, "binaries": {}, "encoder_args": [],
+                "record": {"sequence": "a", "mode": "intra", "setting_label": "(base)"}}
+        result = job.run_job(spec)
+        self.assertEqual(result["status"], "failed")
+        self.assertEqual(result["stage"], "scratch")
+        self.assertIn("cannot make a temporary folder in %s" % self.path, result["error"])
+        self.assertTrue(os.path.isfile(job.failure_path(results, "0" * 64)))
 
     def test_a_cache_file_that_is_not_a_result_is_no_result(self):
         from tdvo_rd import job
