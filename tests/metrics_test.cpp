@@ -83,6 +83,25 @@ TEST(PointTriangleDistance, RegionsOfTheTriangle) {
   EXPECT_NEAR(pointTriangleSquaredDistance({1, 1, 0}, a, b, c), 0.5, kEps);
 }
 
+// The distance scales with the triangle at every size 3dvo-metrics accepts (coordinates up to
+// 1e150, meshes down to 1e-140 across): h² / |n|² overflowed from about 1e51 (inf) and
+// underflowed below about 1e-54 (0), and beyond ~1e±77 the inside test failed (edge distances).
+// An offset far from the origin costs no precision beyond the inputs' own.
+TEST(PointTriangleDistance, AnySizeAndOffset) {
+  for (const double s : {1e-140, 1e-80, 1e-55, 1.0, 1e52, 1e60, 1e76, 1e140}) {
+    const Vec3d a{0, 0, 0}, b{s, 0, 0}, c{0, s, 0};
+    const double d2 = pointTriangleSquaredDistance({0.25 * s, 0.25 * s, 0.1 * s}, a, b, c);
+    EXPECT_NEAR(std::sqrt(d2) / s, 0.1, 1e-12) << "size " << s;
+    const double e2 = pointTriangleSquaredDistance({2 * s, 2 * s, 0}, a, b, c);  // edge bc
+    EXPECT_NEAR(std::sqrt(e2) / s, 1.5 * std::sqrt(2.0), 1e-12) << "size " << s;
+    EXPECT_EQ(pointTriangleSquaredDistance(b, a, b, c), 0.0) << "size " << s;
+  }
+  const double o = 1e12;  // exactly representable inputs; the exact answers are 0.25 and 0.125
+  const Vec3d a{o, o, o}, b{o + 1, o, o}, c{o, o + 1, o};
+  EXPECT_EQ(pointTriangleSquaredDistance({o + 0.25, o + 0.25, o + 0.5}, a, b, c), 0.25);
+  EXPECT_NEAR(pointTriangleSquaredDistance({o + 1.25, o - 0.25, o}, a, b, c), 0.125, 1e-15);
+}
+
 TEST(PointTriangleDistance, DegenerateTriangleIsItsEdges) {
   // Collinear corners: the closest point is on the segment from (0,0,0) to (2,0,0).
   EXPECT_NEAR(pointTriangleSquaredDistance({1, 1, 0}, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}), 1.0, kEps);

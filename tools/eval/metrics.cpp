@@ -81,10 +81,8 @@ using PositionTree =
 
 constexpr uint32_t kLeafTriangles = 4;
 
-}  // namespace
-
-double pointTriangleSquaredDistance(const Vec3d& p, const Vec3d& a, const Vec3d& b,
-                                    const Vec3d& c) {
+// pointTriangleSquaredDistance for coordinates of magnitude at most about 2.
+double unitTriangleSquaredDistance(const Vec3d& p, const Vec3d& a, const Vec3d& b, const Vec3d& c) {
   const Vec3d n = cross(sub(b, a), sub(c, a));
   const double n2 = squaredLength(n);
   if (n2 > 0) {
@@ -103,6 +101,26 @@ double pointTriangleSquaredDistance(const Vec3d& p, const Vec3d& a, const Vec3d&
   // Otherwise the closest point lies on the boundary.
   return std::min({pointSegmentSquaredDistance(p, a, b), pointSegmentSquaredDistance(p, b, c),
                    pointSegmentSquaredDistance(p, c, a)});
+}
+
+}  // namespace
+
+double pointTriangleSquaredDistance(const Vec3d& p, const Vec3d& a, const Vec3d& b,
+                                    const Vec3d& c) {
+  // Computed relative to a and scaled to unit size, then scaled back: a mesh far from the
+  // origin loses no precision to its offset (differences of the inputs are taken first), and
+  // the products below (up to the fourth power of the size) neither overflow nor underflow at
+  // any size 3dvo-metrics accepts (coordinates up to 1e150, meshes down to 1e-140 across).
+  // A point equal to a corner is still at exactly 0: its difference is that corner's.
+  const Vec3d ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+  double size = 0;
+  for (const Vec3d* v : {&ab, &ac, &ap})
+    for (double x : *v)
+      size = std::max(size, std::fabs(x));
+  if (size == 0) return 0;  // p = a = b = c
+  const Vec3d ua{0, 0, 0}, ub{ab[0] / size, ab[1] / size, ab[2] / size},
+      uc{ac[0] / size, ac[1] / size, ac[2] / size}, up{ap[0] / size, ap[1] / size, ap[2] / size};
+  return unitTriangleSquaredDistance(up, ua, ub, uc) * size * size;
 }
 
 SurfaceIndex::SurfaceIndex(const Mesh& mesh) {
