@@ -77,7 +77,14 @@ const EncoderParams& Encoder::params() {
   if (!p.dataset.empty()) {
     s.dataset = readDataset(p.dataset);
     // Frame numbers are the dataset's (frames.first + index): start at its first frame ...
-    if (!s.table.wasSet("FirstFrame")) p.firstFrame = s.dataset->firstFrame;
+    if (!s.table.wasSet("FirstFrame")) {
+      check(s.dataset->firstFrame >= 0 &&
+                static_cast<uint32_t>(s.dataset->firstFrame) <= kMaxFirstFrame,
+            s.dataset->resolve(kDatasetFileName) + ": frames.first " +
+                std::to_string(s.dataset->firstFrame) + " is outside FirstFrame's range 0 .. " +
+                std::to_string(kMaxFirstFrame) + " (the stream's frame numbers)");
+      p.firstFrame = s.dataset->firstFrame;
+    }
     // ... and its frame rate, which the stream carries to the decoded dataset.
     if (!s.table.wasSet("FrameRate")) {
       check(s.dataset->frameRate >= 0.001 && s.dataset->frameRate <= 1000,

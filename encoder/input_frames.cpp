@@ -78,6 +78,12 @@ int resolveFrameCount(const EncoderParams& params, const Dataset* dataset, std::
     }
     const std::string path = inputMeshPath(params, dataset, static_cast<int>(frame));
     std::error_code ec;
+    // A dataset's meshes are as many as its frames.count says: a missing one is an error, not
+    // the end of the sequence.
+    if (dataset && params.inputMeshPattern.empty() && !std::filesystem::is_regular_file(path, ec))
+      throw Error(path + ": cannot open: frame " + std::to_string(frame) + " of " +
+                  datasetName(*dataset) + " (" + datasetRange(*dataset) +
+                  ") has no mesh file; set FrameCount to code the frames before it");
     if (!std::filesystem::is_regular_file(path, ec)) {
       check(count > 0, path +
                            ": cannot open: no input frames (FrameCount not set: every frame "

@@ -38,13 +38,20 @@ TextureBoxFinder::TextureBoxFinder(const EncoderParams& params, const Dataset& d
         name + ": more than " + std::to_string(kMaxCameras) + " cameras");
   check(frameCount > 0 && frameCount <= kMaxFrames, name + ": no frames to code");
   checkTextureFrames(params, dataset, static_cast<int>(frameCount));
-  for (const DatasetCamera& c : dataset.cameras)
+  for (const DatasetCamera& c : dataset.cameras) {
     check(c.camera.width <= kMaxImageSize && c.camera.height <= kMaxImageSize,
           name + ": camera " + c.camera.name + " is larger than 16384 pixels");
+    check(c.camera.width >= 2 && c.camera.height >= 2,
+          name + ": camera " + c.camera.name + " is " + std::to_string(c.camera.width) + "x" +
+              std::to_string(c.camera.height) +
+              " pixels; the stream's cameras are 2 .. 16384 pixels wide and high");
+  }
   // The texts the stream carries (the rest of the dataset's fields are numbers or paths).
   check(dataset.description.size() <= kMaxDescriptionBytes,
         name + ": description: longer than " + std::to_string(kMaxDescriptionBytes) +
             " bytes, more than the stream carries");
+  check(dataset.description.find('\0') == std::string::npos,
+        name + ": description: holds a NUL character (\\u0000), which the stream does not carry");
   for (const DatasetCamera& c : dataset.cameras)
     check(c.camera.name.size() <= kMaxCameraNameBytes,
           name + ": camera name '" + c.camera.name.substr(0, 32) + "...' is longer than " +

@@ -116,6 +116,13 @@ TEST(Dataset, WriteReadRoundTripIsExact) {
   EXPECT_EQ(r.framePath(r.meshes, 0), dir / "meshes/0003.obj");
   // Formatting is deterministic and stable under a read/write cycle.
   EXPECT_EQ(formatDataset(r, dir.str()), text(dir / "dataset.json"));
+  // The sign of a zero given is kept (it was written as 0.0).
+  Dataset z = r;
+  z.cameras[0].camera.t[0] = -0.0;
+  z.up = Vec3d{-0.0, 1, 0};
+  const std::string zeros = formatDataset(z, dir.str());
+  EXPECT_NE(zeros.find("\"up\": [-0.0, 1.0, 0.0]"), std::string::npos) << zeros;
+  EXPECT_NE(zeros.find("\"t\": [-0.0, "), std::string::npos) << zeros;
 }
 
 TEST(Dataset, PathsAreRewrittenRelativeToTheOutputFolder) {

@@ -414,16 +414,20 @@ class ErrorsTest : public testing::Test {
     expectRow(id, "3dvo-enc", args);
   }
 
-  // A copy of the conformance rig in rig/ with `from` replaced by `to` in its dataset.json,
-  // coded (one frame, textures) against row `id`.
-  void expectRigRow(const std::string& id, const std::string& from, const std::string& to) {
+  // A copy of the conformance rig in rig/ with `from` replaced by `to` in its dataset.json.
+  void copyRig(const std::string& from, const std::string& to) {
     const std::string rig = dir_.file("rig");
     std::filesystem::copy(std::string(TDVO_SOURCE_DIR) + "/conformance/inputs/rig", rig,
                           std::filesystem::copy_options::recursive);
     std::string json = test::readText(rig + "/dataset.json");
-    ASSERT_NE(json.find(from), std::string::npos);
+    ASSERT_NE(json.find(from), std::string::npos) << from;
     json.replace(json.find(from), from.size(), to);
     test::writeText(rig + "/dataset.json", json);
+  }
+
+  // copyRig, coded (one frame, textures) against row `id`.
+  void expectRigRow(const std::string& id, const std::string& from, const std::string& to) {
+    copyRig(from, to);
     expectRow(id, "3dvo-enc", {"--Dataset=rig", "--FrameCount=1", "-o", "out/x.3dvo"});
   }
 
@@ -2248,6 +2252,30 @@ CATALOGUE_TEST(C33) {
   expectRigRow("C33", "\"description\": \"", "\"description\": \"" + std::string(4097, 'x'));
 }
 
+CATALOGUE_TEST(C47) {
+  copyRig("\"count\": 6", "\"count\": 3");
+  std::filesystem::remove(dir_.file("rig/meshes/0001.obj"));
+  expectRow("C47", "3dvo-enc", {"--Dataset=rig", "-o", "out/x.3dvo"});
+}
+
+CATALOGUE_TEST(C48) {
+  // cam01 made 1 x 16 pixels, its pictures too.
+  copyRig("\"name\": \"cam01\",\n      \"width\": 96,\n      \"height\": 80,",
+          "\"name\": \"cam01\",\n      \"width\": 1,\n      \"height\": 16,");
+  for (const std::string name : {"0000.png", "mask_0000.png", "background.png"})
+    test::writeBytes(dir_.file("rig/cam01/" + name),
+                     encodePng(Image(1, 16, name == "mask_0000.png" ? 1 : 3, 255)));
+  expectRow("C48", "3dvo-enc", {"--Dataset=rig", "--FrameCount=1", "-o", "out/x.3dvo"});
+}
+
+CATALOGUE_TEST(C49) {
+  expectRigRow("C49", "\"description\": \"", "\"description\": \"a\\u0000b");
+}
+
+CATALOGUE_TEST(C50) {
+  expectRigRow("C50", "\"first\": 0", "\"first\": 1000000001");
+}
+
 CATALOGUE_TEST(C34) {
   expectRigRow("C34", "\"name\": \"cam01\"", "\"name\": \"" + std::string(256, 'c') + "\"");
 }
@@ -2344,6 +2372,10 @@ DATASET_TEST(J04) {
 
 DATASET_TEST(J05) {
   expectDatasetRow("J05", "\"t\": [0, 0, 5], ", "");
+}
+
+DATASET_TEST(J27) {
+  expectDatasetRow("J27", "\"count\": 1}", "\"count\": 1, \"rate\": 25, \"rate\": 50}");
 }
 
 DATASET_TEST(J06) {

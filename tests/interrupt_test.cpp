@@ -290,6 +290,28 @@ TEST(OutputFolders, FailedRunLeavesNoFolderTree) {
   EXPECT_TRUE(test::listFolder(dir.path()).empty());
 }
 
+// An output folder named through a missing folder and back out ("q/../x"): mkdir -p would make
+// q, outside the output folder, and a successful run left it; refused before anything is made.
+TEST(OutputFolders, AMissingFolderAndBackOutIsRefused) {
+  TempDir dir("outfolder-dotdot");
+  try {
+    OutputFolder out(dir.file("q/../x"), false);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("/q, which does not exist, and back out ('..')"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(test::listFolder(dir.path()).empty());
+  std::filesystem::create_directories(dir.path() / "q");
+  {
+    OutputFolder out(dir.file("q/../x"), false);
+    out.write(dir.file("q/../x/0000.obj"), "obj");
+    out.commit();
+  }
+  EXPECT_TRUE(std::filesystem::exists(dir.path() / "x" / "0000.obj"));
+}
+
 // Two outputs of one run naming the same file: an error saying so (it was "cannot create: File
 // exists", as if a file of someone else's were in the way), and the folder is left as it was.
 TEST(OutputFolders, AFileWrittenTwiceIsAnErrorSayingSo) {

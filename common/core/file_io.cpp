@@ -487,6 +487,10 @@ OutputFolder::OutputFolder(const std::string& folder, bool overwrite,
       missing.push_back(p);
       if (p == p.parent_path()) break;
     }
+    // "q/../x" with q missing would make q, a folder outside the output folder, and leave it.
+    for (const fs::path& p : missing)
+      check(p.filename() != "..", folder_ + ": goes through " + p.parent_path().string() +
+                                      ", which does not exist, and back out ('..')");
     for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
       const auto lock = InterruptRegistry::lock();
       const uint64_t handle = InterruptRegistry::add(it->string());

@@ -14,6 +14,7 @@
 #include "common/core/mesh_io.h"
 #include "common/core/obj_io.h"
 #include "common/core/sequence.h"
+#include "common/media/json_text.h"
 #include "common/media/png_io.h"
 #include "common/media/video_reader.h"
 
@@ -276,12 +277,7 @@ void checkDataset(const Dataset& d, const std::string& name) {
 }
 
 Dataset parseDataset(const std::string& text, const std::string& name, const std::string& folder) {
-  Json root;
-  try {
-    root = Json::parse(text);
-  } catch (const Json::exception& e) {  // parse_error, and out_of_range for numbers like 1e999
-    throw Error(name + ": invalid JSON: " + e.what());
-  }
+  const Json root = parseJsonText<Json>(text.begin(), text.end(), name);
   Dataset d;
   d.folder = folder;
   ObjectReader top(root, name);
@@ -380,7 +376,7 @@ namespace {
 // JSON text of one value (strings escaped, doubles in the shortest form that reads back
 // exactly); negative zero is written as 0.
 std::string jsonValue(double v) {
-  return Json(v == 0 ? 0.0 : v).dump();
+  return Json(v).dump();  // -0.0 stays -0.0: what was read is written
 }
 std::string jsonValue(int v) {
   return Json(v).dump();

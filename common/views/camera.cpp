@@ -266,6 +266,20 @@ Camera Camera::withoutDistortion() const {
   return c;
 }
 
+namespace {
+
+// A computed pose's zeros are +0 (−1 · 0 is −0): a dataset.json keeps the sign of what it is
+// given, and "-0.0" in a pose made here would only be noise.
+void positiveZeros(Camera& camera) {
+  for (Vec3d& row : camera.R)
+    for (double& x : row)
+      x += 0.0;
+  for (double& x : camera.t)
+    x += 0.0;
+}
+
+}  // namespace
+
 void lookAt(Camera& camera, const Vec3d& eye, const Vec3d& target, const Vec3d& up) {
   const Vec3d z = normalized(target - eye);
   const Vec3d xAxis = cross(z, up);
@@ -274,6 +288,7 @@ void lookAt(Camera& camera, const Vec3d& eye, const Vec3d& target, const Vec3d& 
   const Vec3d y = cross(z, x);  // image down
   camera.R = {x, y, z};
   camera.t = -1.0 * (camera.R * eye);
+  positiveZeros(camera);
 }
 
 void setFromOpenGlCameraToWorld(Camera& camera, const Mat4d& m) {
@@ -288,6 +303,7 @@ void setFromOpenGlCameraToWorld(Camera& camera, const Mat4d& m) {
   // diag(1, −1, −1): flip y and z to go from OpenGL's camera axes to the CV ones.
   camera.R = {worldToGl[0], -1.0 * worldToGl[1], -1.0 * worldToGl[2]};
   camera.t = -1.0 * (camera.R * position);
+  positiveZeros(camera);
 }
 
 namespace {

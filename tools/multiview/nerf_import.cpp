@@ -8,6 +8,7 @@
 #include "common/core/error.h"
 #include "common/core/file_io.h"
 #include "common/core/sequence.h"
+#include "common/media/json_text.h"
 #include "common/media/png_io.h"
 #include "tools/multiview/importers.h"
 
@@ -43,12 +44,7 @@ double number(const Json& object, const char* key, const std::string& where) {
 Dataset importNerf(const std::string& transformsFile) {
   const std::vector<uint8_t> bytes =
       readFileBytes(transformsFile, kMaxTextFileBytes, "a calibration file");
-  Json root;
-  try {
-    root = Json::parse(bytes.begin(), bytes.end());
-  } catch (const Json::exception& e) {  // parse_error, and out_of_range for numbers like 1e999
-    throw Error(transformsFile + ": invalid JSON: " + e.what());
-  }
+  const Json root = parseJsonText<Json>(bytes.begin(), bytes.end(), transformsFile);
   check(root.is_object(), transformsFile + ": must be a JSON object");
   check(root.contains("frames") && root["frames"].is_array() && !root["frames"].empty(),
         transformsFile + ": needs a non-empty \"frames\" array");
