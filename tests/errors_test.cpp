@@ -610,6 +610,84 @@ CATALOGUE_TEST(H12) {
   expectUnitsRow("H12", units);
 }
 
+// The camera of texturedSheetUnits(3, 2, 64, 48, 1) ("cam", 64 x 48): byte offsets of its fields
+// in the sequence header (docs/bitstream.md section 2: after sh_attributes_present at 51 and
+// sh_num_cameras at 52), checked against the values written.
+constexpr size_t kCamName = 56, kCamWidth = 59, kCamHeight = 61, kCamFx = 63, kCamFy = 71,
+                 kCamCx = 79, kCamRotation = 135, kTxBoxX = 231;
+
+std::vector<Unit> oneCameraUnits() {
+  std::vector<Unit> units = texturedSheetUnits(3, 2, 64, 48, 1);
+  const std::vector<uint8_t>& p = units[0].payload;
+  EXPECT_EQ(std::string(p.begin() + kCamName, p.begin() + kCamName + 3), "cam");
+  EXPECT_EQ(p[kCamWidth] | p[kCamWidth + 1] << 8, 64);
+  EXPECT_EQ(p[kCamHeight] | p[kCamHeight + 1] << 8, 48);
+  double fx = 0, r0 = 0;
+  std::memcpy(&fx, &p[kCamFx], 8);
+  std::memcpy(&r0, &p[kCamRotation], 8);
+  EXPECT_EQ(fx, 64.0);
+  EXPECT_EQ(r0, 1.0);
+  EXPECT_EQ(p[kTxBoxX] | p[kTxBoxX + 1] << 8, 0);
+  return units;
+}
+
+CATALOGUE_TEST(H13) {
+  for (const size_t at : {kCamWidth, kCamHeight})
+    for (const uint16_t size : {uint16_t{1}, uint16_t{16385}}) {
+      std::vector<Unit> units = oneCameraUnits();
+      putU16(units[0].payload, at, size);
+      expectUnitsRow("H13", units);
+    }
+}
+
+CATALOGUE_TEST(H14) {
+  for (const size_t at : {kCamFx, kCamFy})
+    for (const double f : {0.0, -1.0}) {
+      std::vector<Unit> units = oneCameraUnits();
+      putF64(units[0].payload, at, f);
+      expectUnitsRow("H14", units);
+    }
+}
+
+CATALOGUE_TEST(H15) {
+  std::vector<Unit> units = oneCameraUnits();
+  putF64(units[0].payload, kCamCx, std::nan(""));
+  expectUnitsRow("H15", units);
+  units = oneCameraUnits();
+  putF64(units[0].payload, kCamRotation + 8 * 4, HUGE_VAL);
+  expectUnitsRow("H15", units);
+}
+
+CATALOGUE_TEST(H16) {
+  std::vector<Unit> units = oneCameraUnits();
+  putU16(units[0].payload, kTxBoxX, 8);
+  expectUnitsRow("H16", units);
+}
+
+CATALOGUE_TEST(H17) {
+  // A second camera "cbm" (the first one's fields again), then renamed "cam".
+  std::vector<Unit> units = oneCameraUnits();
+  std::vector<uint8_t>& p = units[0].payload;
+  const size_t cameraBytes = kTxBoxX + 8 - (kCamName - 2);
+  std::vector<uint8_t> second(p.begin() + kCamName - 2, p.begin() + kTxBoxX + 8);
+  second[3] = 'b';
+  p.insert(p.begin() + kTxBoxX + 8, second.begin(), second.end());
+  putU16(p, 52, 2);
+  SequenceHeader sh = parse<SequenceHeader>(units[0]);  // valid so far
+  ASSERT_EQ(sh.cameras.size(), 2u);
+  p[kTxBoxX + 8 + 3] = 'a';
+  ASSERT_EQ(cameraBytes, second.size());
+  expectUnitsRow("H17", units);
+}
+
+CATALOGUE_TEST(H18) {
+  for (const uint8_t bad : {uint8_t{0xFF}, uint8_t{0}}) {
+    std::vector<Unit> units = oneCameraUnits();
+    units[0].payload[kCamName + 1] = bad;
+    expectUnitsRow("H18", units);
+  }
+}
+
 CATALOGUE_TEST(H07) {
   for (int axis = 0; axis < 3; ++axis) {
     std::vector<Unit> units = baseUnits();
