@@ -847,8 +847,19 @@ TEST(EncoderWarnings, OnceAndSilencedScopes) {
     warn("b");
   }
   warn("a");
+  // The memory is bounded: past 65,536 distinct messages, new ones are not remembered.
+  size_t count = 0;
+  setWarningHandler([&](const std::string&) { ++count; });
+  {
+    WarnOnceScope once;
+    for (int i = 0; i <= 65536; ++i)
+      warn("m" + std::to_string(i));
+    warn("m0");
+    warn("m65536");
+  }
   setWarningHandler(before);
   EXPECT_EQ(said, (std::vector<std::string>{"a", "b", "a"}));
+  EXPECT_EQ(count, 65538u);
 }
 
 // 3dvo-enc reads the first frames more than once (the bounds pass, Quality's trial, the coding):

@@ -43,7 +43,11 @@ void warn(const std::string& message) {
   std::lock_guard<std::mutex> lock(warningMutex());
   OnceState& once = onceState();
   if (once.silenced > 0) return;
-  if (once.depth > 0 && !once.said.insert(message).second) return;
+  // (At most kRemembered messages are remembered: past them, messages are said every time, so
+  // a long run's distinct warnings cannot grow this set without bound.)
+  constexpr size_t kRemembered = 1 << 16;
+  if (once.depth > 0 && once.said.count(message)) return;
+  if (once.depth > 0 && once.said.size() < kRemembered) once.said.insert(message);
   if (handler())
     handler()(message);
   else

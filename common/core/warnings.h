@@ -23,7 +23,7 @@ void warn(const std::string& message);
 // a run that reads a file more than once (the encoder's bounds pass, Quality's trial and the
 // coding) says what the reader left out once. Scopes nest (the outermost one's life counts) and
 // are process-wide, as the handler is; runApp and tdvo::Encoder::encode open one. It remembers
-// each distinct message until it ends.
+// the first 65,536 distinct messages until it ends (later ones are said every time).
 class WarnOnceScope {
  public:
   WarnOnceScope();
