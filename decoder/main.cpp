@@ -470,8 +470,11 @@ int main(int argc, char** argv) {
     if (!extractDir.empty())
       extractTextures(streamPath, streamPath, extractDir, extracted ? *extracted : *outputs);
     progress.reset();  // clears its line before the summary
-    if (extracted) extracted->commit();
-    if (outputs) outputs->commit();
+    // Both folders in place, or (an Error) each as it was.
+    std::vector<CommittableOutput*> folders;
+    if (extracted) folders.push_back(&*extracted);
+    if (outputs) folders.push_back(&*outputs);
+    commitAll(folders);
 
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -290,6 +290,55 @@ TEST(OutputFolders, FailedRunLeavesNoFolderTree) {
   EXPECT_TRUE(test::listFolder(dir.path()).empty());
 }
 
+// A run's outputs are committed together (commitAll): when a later one cannot be put in place,
+// the earlier ones are taken back. Before, 3dvo-render -o DIR --Mp4=FILE (and 3dvo-dec's
+// --ExtractTextures folder, leave-one-out's --Csv) replaced the folder, then failed on the
+// other output: exit 1 with the folder's earlier contents deleted.
+TEST(OutputFolders, CommitAllTakesEveryOutputBackWhenOneFails) {
+  TempDir dir("commit-all");
+  {
+    OutputFolder out(dir.file("out"), false);
+    out.write(dir.file("out/old.txt"), "old");
+    out.commit();
+  }
+  test::writeText(dir.file("old.csv"), "old rows");
+  const size_t before = InterruptRegistry::size();
+  {
+    OutputFolder out(dir.file("out"), true);
+    out.write(dir.file("out/new.txt"), "new");
+    StagedFiles csv;
+    csv.write(dir.file("old.csv"), "new rows");
+    StagedFiles blocked;
+    blocked.write(dir.file("blocked"), "x");
+    // A folder in the way of the last output: its rename fails.
+    std::filesystem::create_directories(dir.path() / "blocked" / "inside");
+    try {
+      commitAll({&out, &csv, &blocked});
+      ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("blocked: cannot rename staged output into place"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_EQ(test::listFolder(dir.path() / "out"), std::vector<std::string>{"old.txt"});
+  EXPECT_EQ(test::readText(dir.file("out/old.txt")), "old");
+  EXPECT_EQ(test::readText(dir.file("old.csv")), "old rows");
+  EXPECT_EQ(InterruptRegistry::size(), before);
+  // All three in place when nothing is in the way.
+  std::filesystem::remove_all(dir.path() / "blocked");
+  {
+    OutputFolder out(dir.file("out"), true);
+    out.write(dir.file("out/new.txt"), "new");
+    StagedFiles csv;
+    csv.write(dir.file("old.csv"), "new rows");
+    commitAll({&out, &csv});
+  }
+  EXPECT_EQ(test::listFolder(dir.path() / "out"), std::vector<std::string>{"new.txt"});
+  EXPECT_EQ(test::readText(dir.file("old.csv")), "new rows");
+  EXPECT_EQ(InterruptRegistry::size(), before);
+}
+
 // An output folder named through a missing folder and back out ("q/../x"): mkdir -p would make
 // q, outside the output folder, and a successful run left it; refused before anything is made.
 TEST(OutputFolders, AMissingFolderAndBackOutIsRefused) {

@@ -593,8 +593,9 @@ TEST(Mp4Writer, WritesFramesThatFfmpegReadsBack) {
     Mp4Writer writer(path, 33, 21, 25, 10);
     for (const Image& f : frames)
       writer.write(f);
-    EXPECT_FALSE(fs::exists(path)) << "the final name appears only when finished";
-    writer.finish();
+    EXPECT_FALSE(fs::exists(path)) << "the final name appears only when committed";
+    writer.close();
+    writer.file().commit();
   }
   EXPECT_FALSE(fs::exists(path + ".partial"));
   VideoReader reader(path);
@@ -641,7 +642,8 @@ TEST(Mp4Writer, PlantedPartialLinkIsNotFollowedAndALinkedOutputKeepsItsLink) {
   {
     Mp4Writer writer(dir.file("out.mp4"), 32, 32, 25, 18);
     writer.write(Image(32, 32, 3, 9));
-    writer.finish();
+    writer.close();
+    writer.file().commit();
   }
   EXPECT_EQ(test::readText(dir.file("victim")), "precious");
   EXPECT_TRUE(fs::is_symlink(dir.file("out.mp4")));

@@ -21,6 +21,7 @@
 #include "common/core/interrupt.h"
 #include "common/core/sequence.h"
 #include "common/core/text_tokens.h"
+#include "common/core/warnings.h"
 
 namespace tdvo {
 
@@ -345,7 +346,11 @@ void StagedFiles::rollBack() {
   }
 }
 
-void StagedFiles::commit() {
+void StagedFiles::takeBack() {
+  rollBack();
+}
+
+void StagedFiles::putInPlace() {
   try {
     for (Entry& e : entries_) {
       if (e.special) continue;
@@ -385,11 +390,16 @@ void StagedFiles::commit() {
     rollBack();
     throw;
   }
+}
+
+void StagedFiles::finishCommit() {
   const auto lock = InterruptRegistry::lock();
   for (Entry& e : entries_) {
     if (!e.renamed) continue;
     if (!e.backup.empty()) {
-      ::unlink(e.backup.c_str());
+      if (::unlink(e.backup.c_str()) != 0)
+        warn(e.shown + ": the previous file's backup " + e.backup + " could not be removed (" +
+             systemError() + ")");
       InterruptRegistry::drop(e.backupHandle);
     } else {
       InterruptRegistry::drop(e.finalHandle);
@@ -563,7 +573,7 @@ void OutputFolder::write(const std::string& path, const void* data, size_t size)
   if (!written || !closed) throw Error(path + ": write error: " + std::strerror(error));
 }
 
-void OutputFolder::commit() {
+void OutputFolder::putInPlace() {
   const auto lock = InterruptRegistry::lock();
   const std::string stagingName = fs::path(staging_).filename().string();
   // What goes aside: the entries the folder held when the run started (an entry made during
@@ -637,12 +647,69 @@ void OutputFolder::commit() {
     throw Error(folder_ + ": cannot move the output into place (" + failure +
                 "); the folder is as it was");
   }
+  // In place, the previous entries kept aside until finishCommit (commitAll: the run's other
+  // outputs may still fail). An interruption from here on takes the commit back: the cleanup
+  // runs newest first, so the new entries go, then the previous ones come back, then the
+  // (empty) aside folder goes.
+  aside_ = aside;
+  movedAside_ = previous;
+  movedIn_ = fresh;
+  if (!aside_.empty()) undoHandles_.push_back(InterruptRegistry::add(aside_));
+  for (const std::string& name : movedAside_)
+    undoHandles_.push_back(
+        InterruptRegistry::addRestore(aside_ + "/" + name, folder_ + "/" + name));
+  for (const std::string& name : movedIn_)
+    undoHandles_.push_back(InterruptRegistry::addTree(folder_ + "/" + name));
+}
+
+void OutputFolder::takeBack() {
+  const auto lock = InterruptRegistry::lock();
+  // The new entries back into the staging folder (which the destructor removes), the previous
+  // ones back in place.
+  for (auto name = movedIn_.rbegin(); name != movedIn_.rend(); ++name)
+    std::rename((folder_ + "/" + *name).c_str(), (staging_ + "/" + *name).c_str());
+  for (auto name = movedAside_.rbegin(); name != movedAside_.rend(); ++name)
+    std::rename((aside_ + "/" + *name).c_str(), (folder_ + "/" + *name).c_str());
+  if (!aside_.empty()) ::rmdir(aside_.c_str());
+  for (const uint64_t handle : undoHandles_)
+    InterruptRegistry::drop(handle);
+  undoHandles_.clear();
+  aside_.clear();
+  movedAside_.clear();
+  movedIn_.clear();
+}
+
+void OutputFolder::finishCommit() {
+  const auto lock = InterruptRegistry::lock();
   ::rmdir(staging_.c_str());
-  if (!aside.empty()) fs::remove_all(aside, ec);
+  std::error_code ec;
+  if (!aside_.empty()) {
+    fs::remove_all(aside_, ec);
+    if (ec)
+      warn(folder_ + ": the previous contents, set aside in " + aside_ +
+           ", could not all be removed (" + ec.message() + ")");
+  }
+  for (const uint64_t handle : undoHandles_)
+    InterruptRegistry::drop(handle);
+  undoHandles_.clear();
   InterruptRegistry::drop(stagingHandle_);
   for (const auto& made : created_)
     InterruptRegistry::drop(made.second);
   committed_ = true;
+}
+
+void commitAll(const std::vector<CommittableOutput*>& outputs) {
+  size_t done = 0;
+  try {
+    for (; done < outputs.size(); ++done)
+      outputs[done]->putInPlace();
+  } catch (...) {
+    while (done > 0)
+      outputs[--done]->takeBack();
+    throw;
+  }
+  for (CommittableOutput* output : outputs)
+    output->finishCommit();
 }
 
 void makeDirectories(const std::string& path) {

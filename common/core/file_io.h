@@ -64,6 +64,22 @@ std::string readFileMaybeGz(const std::string& path, uint64_t maxBytes = kMaxBin
 //   block device or socket is refused;
 // - a run that fails, also while committing, leaves the previous run's files as they were.
 
+// The outputs of one run that are put in place together (commitAll): each puts its new files
+// in place while keeping the previous ones (putInPlace), and the previous ones are removed
+// (finishCommit) only when every output is in place; a later output that fails takes the
+// earlier ones back (takeBack). Between the two steps an interruption takes them back too.
+class CommittableOutput {
+ public:
+  virtual ~CommittableOutput() = default;
+  virtual void putInPlace() = 0;    // Error on failure, with this output as it was
+  virtual void takeBack() = 0;      // after putInPlace: the previous files back in place
+  virtual void finishCommit() = 0;  // after putInPlace: the previous files removed
+};
+
+// Commits `outputs` as one: every one in place, or (an Error) none, each as it was. A run with
+// several outputs (3dvo-render's folder and --Mp4) commits them with this, never one by one.
+void commitAll(const std::vector<CommittableOutput*>& outputs);
+
 // Writes `size` bytes to `path` atomically (a StagedFiles of one file).
 void writeFileAtomic(const std::string& path, const void* data, size_t size);
 inline void writeFileAtomic(const std::string& path, const std::string& text) {
@@ -76,7 +92,7 @@ inline void writeFileAtomic(const std::string& path, const std::string& text) {
 // it replaced is restored from the backup it kept (a second hard link) until every file was in
 // place. An interrupted run does the same (interrupt.h: every staged file, new final file and
 // backup is in the interrupt registry while the commit is under way).
-class StagedFiles {
+class StagedFiles : public CommittableOutput {
  public:
   StagedFiles() = default;
   StagedFiles(const StagedFiles&) = delete;
@@ -90,7 +106,10 @@ class StagedFiles {
   // name, for a writer that opens files by name (FFmpeg): the caller fills and closes it before
   // commit(). A device or FIFO is refused here (such a writer seeks).
   std::string stage(const std::string& path);
-  void commit();
+  void commit() { commitAll({this}); }
+  void putInPlace() override;
+  void takeBack() override;
+  void finishCommit() override;
 
  private:
   struct Entry {
@@ -145,7 +164,7 @@ class InputFiles {
 // this run's output; a failure puts everything back. A run that fails or is interrupted
 // before commit() leaves the folder as it was (removed again if this run created it, with any
 // parents it created).
-class OutputFolder {
+class OutputFolder : public CommittableOutput {
  public:
   OutputFolder(const std::string& folder, bool overwrite,
                const std::vector<std::string>& inputs = {});
@@ -157,7 +176,10 @@ class OutputFolder {
   void write(const std::string& path, const std::string& text) {
     write(path, text.data(), text.size());
   }
-  void commit();
+  void commit() { commitAll({this}); }
+  void putInPlace() override;
+  void takeBack() override;
+  void finishCommit() override;
   const std::string& folder() const { return folder_; }
 
  private:
@@ -165,6 +187,11 @@ class OutputFolder {
   std::vector<std::string> previous_;  // the folder's entries when the run started
   uint64_t stagingHandle_ = 0;
   std::vector<std::pair<std::string, uint64_t>> created_;  // folders made, outermost first
+  // Between putInPlace and finishCommit: the previous entries moved aside into `aside_`, the
+  // new ones in place, and the interrupt registry's handles that would undo that.
+  std::string aside_;
+  std::vector<std::string> movedAside_, movedIn_;
+  std::vector<uint64_t> undoHandles_;
   bool committed_ = false;
 };
 

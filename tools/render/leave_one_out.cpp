@@ -17,7 +17,8 @@ std::vector<LeaveOneOutRow> leaveOneOut(
     const Dataset& dataset, const FrameRange& frames, const RenderOptions& options,
     const std::string& renderFolder, bool overwrite, const std::vector<std::string>& inputs,
     const Dataset* reference,
-    const std::function<void(const std::vector<LeaveOneOutRow>&)>& beforeCommit) {
+    const std::function<void(const std::vector<LeaveOneOutRow>&)>& beforeCommit,
+    const std::vector<CommittableOutput*>& commitWith) {
   const size_t n = dataset.cameras.size();
   std::vector<LeaveOneOutRow> rows(n);
   for (size_t i = 0; i < n; ++i)
@@ -85,7 +86,9 @@ std::vector<LeaveOneOutRow> leaveOneOut(
     }
   }
   if (beforeCommit) beforeCommit(rows);  // (e.g. staging the caller's CSV of these rows)
-  if (files) files->commit();
+  std::vector<CommittableOutput*> outputs = commitWith;
+  if (files) outputs.insert(outputs.begin(), &*files);
+  commitAll(outputs);
   return rows;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/core/file_io.h"
 #include "common/media/dataset.h"
 #include "tools/render/masked_ssim.h"
 #include "tools/render/view_renderer.h"
@@ -36,16 +37,18 @@ struct FrameRange {
 // that dataset's camera of the same name at the same frame number (frames.first + index), e.g.
 // `dataset` a decoded 3DVO (its mesh and decoded pictures are what the renderer uses) and
 // `reference` the original captures; the cameras must have the same image size. When `renderFolder`
-// is not empty the held-out renders are written there as <camera>/<frame number %04d>.png (an output
-// folder: common/core/file_io.h, OutputFolder; a non-empty one is refused unless `overwrite`).
-// `beforeCommit`, when given, is called with the rows before the folder is
-// committed (a caller stages its other outputs there, so that their failure leaves the folder as
-// it was). Progress on stderr when it is a terminal.
+// is not empty the held-out renders are written there as <camera>/<frame number %04d>.png (an
+// output folder: common/core/file_io.h, OutputFolder; a non-empty one is refused unless
+// `overwrite`). `beforeCommit`, when given, is called with the rows before the folder is committed
+// (a caller stages its other outputs there), and `commitWith` are committed with the folder
+// (commitAll, common/core/file_io.h: all in place, or each as it was). Progress on stderr when it
+// is a terminal.
 std::vector<LeaveOneOutRow> leaveOneOut(
     const Dataset& dataset, const FrameRange& frames, const RenderOptions& options,
     const std::string& renderFolder = "", bool overwrite = false,
     const std::vector<std::string>& inputs = {}, const Dataset* reference = nullptr,
-    const std::function<void(const std::vector<LeaveOneOutRow>&)>& beforeCommit = {});
+    const std::function<void(const std::vector<LeaveOneOutRow>&)>& beforeCommit = {},
+    const std::vector<CommittableOutput*>& commitWith = {});
 
 // A Markdown table: camera, pixels, leave-one-out PSNR, own-pose PSNR, % of the mask pixels
 // that fell back (no other camera sees them), leave-one-out SSIM, and a last row pooling every

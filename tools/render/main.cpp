@@ -314,8 +314,10 @@ void runRender(const Params& p, const Dataset& d, const FrameRange& frames,
   // Every output written and closed before any is put in place: an MP4 that cannot be
   // finished leaves the output folder as it was.
   if (mp4) mp4->close();
-  files.commit();
-  if (mp4) mp4->finish();
+  if (mp4)
+    commitAll({&files, &mp4->file()});
+  else
+    files.commit();
   const double covered = stats.covered ? double(stats.covered) : 1.0;
   std::printf(
       "3dvo-render: wrote %zu views to %s%s%s; of %zu object pixels %.2f %% blended, %.2f %% "
@@ -375,16 +377,17 @@ int main(int argc, char** argv) {
       inputFiles.push_back(p.input);
       inputFiles.push_back(p.reference);
       const std::vector<std::string> inputs = protectedPaths(datasets, inputFiles);
-      // The CSV is staged before the renders' folder is committed, and put in place after it: a
-      // CSV that cannot be written leaves the folder as it was.
+      // The CSV is staged before the renders' folder is committed, and the two are put in place
+      // together (commitAll): a CSV that cannot be written leaves the folder as it was.
       StagedFiles csv;
-      const std::vector<LeaveOneOutRow> rows = leaveOneOut(
-          d, frames, p.render, p.saveRenders ? p.output : "", p.overwrite, inputs,
-          reference ? &*reference : nullptr, [&](const std::vector<LeaveOneOutRow>& all) {
-            if (!p.csv.empty()) csv.write(p.csv, formatLeaveOneOutCsv(all));
-          });
+      const std::vector<LeaveOneOutRow> rows =
+          leaveOneOut(d, frames, p.render, p.saveRenders ? p.output : "", p.overwrite, inputs,
+                      reference ? &*reference : nullptr,
+                      [&](const std::vector<LeaveOneOutRow>& all) {
+                        if (!p.csv.empty()) csv.write(p.csv, formatLeaveOneOutCsv(all));
+                      },
+                      {&csv});
       std::fputs(formatLeaveOneOutTable(rows).c_str(), stdout);
-      csv.commit();
     }
     return 0;
   });

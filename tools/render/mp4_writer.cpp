@@ -31,8 +31,8 @@ std::string avError(int code) {
 
 struct Mp4Writer::State {
   std::string path, partial;
-  StagedFiles staged;         // the partial file: created exclusively, put in place by finish()
-  int width = 0, height = 0;  // of the frames given
+  StagedFiles staged;  // the partial file: created exclusively, put in place by file()'s commit
+  int width = 0, height = 0;            // of the frames given
   int codedWidth = 0, codedHeight = 0;  // rounded up to even
   AVFormatContext* format = nullptr;
   AVCodecContext* encoder = nullptr;
@@ -40,7 +40,7 @@ struct Mp4Writer::State {
   AVPacket* packet = nullptr;
   AVFrame* frame = nullptr;
   int64_t next = 0;
-  bool open = false, finished = false;
+  bool open = false;
 
   ~State() {
     av_frame_free(&frame);
@@ -136,7 +136,7 @@ Mp4Writer::~Mp4Writer() = default;
 
 void Mp4Writer::write(const Image& image) {
   State& s = *state_;
-  check(!s.finished, s.path + ": write after finish");
+  check(s.open, s.path + ": write after close");
   check(image.width == s.width && image.height == s.height,
         s.path + ": frame size differs from the first frame");
   // RGB at the coded (even) size, repeating the last column / row.
@@ -172,12 +172,8 @@ void Mp4Writer::close() {
   check(r >= 0, s.path + ": closing failed: " + avError(r));
 }
 
-void Mp4Writer::finish() {
-  State& s = *state_;
-  if (s.finished) return;
-  close();
-  s.staged.commit();
-  s.finished = true;
+StagedFiles& Mp4Writer::file() {
+  return state_->staged;
 }
 
 }  // namespace tdvo

@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "common/core/file_io.h"
 #include "common/views/image.h"
 
 namespace tdvo {
@@ -30,9 +31,9 @@ class Mp4Writer {
   void write(const Image& frame);
   // Flushes the encoder and closes the (staged) file: every error of writing it happens here.
   void close();
-  // close(), then renames the file to its final name (what a caller does last, after the other
-  // outputs of its run are in place: a run that fails before leaves the previous file).
-  void finish();
+  // The staged file, to be put in place with the run's other outputs after close()
+  // (commitAll, common/core/file_io.h: a run that fails leaves the previous file and folders).
+  StagedFiles& file();
 
   struct State;  // FFmpeg contexts (defined in the .cpp)
 
