@@ -1,5 +1,6 @@
 // 3dvo-enc: encodes an OBJ mesh sequence into a .3dvo stream.
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -120,6 +121,9 @@ int main(int argc, char** argv) {
       inputs.add(params.gomListFile);
       for (size_t k = 0; k < (animation ? std::min<size_t>(source.count, 1) : source.count); ++k)
         inputs.add(framePathOf(k));
+      // Every frame of the input sequence, also those this run does not code (FrameCount).
+      if (!params.inputMeshPattern.empty() && !animation)
+        inputs.addPattern(params.inputMeshPattern, 0, INT_MAX);
       if (input) addDatasetFiles(inputs, *input);  // every file of the dataset
       inputs.checkOutput(params.bitstreamFile);
       if (!params.reconMeshPattern.empty())

@@ -5,6 +5,7 @@
 // decoded one (texture_metrics.h). Formulas and conventions: docs/metrics.md.
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -251,6 +252,9 @@ int main(int argc, char** argv) {
         inputs.add(referencePaths[k]);
         inputs.add(testPaths[k]);
       }
+      // Every frame of a sequence given, also those this run does not compare (FrameCount).
+      for (const std::string* pattern : {&p.referenceMeshes, &p.testMeshes})
+        if (pattern->find('%') != std::string::npos) inputs.addPattern(*pattern, 0, INT_MAX);
       inputs.checkOutput(p.csvFile);
     }
     // Where the groups of the nearest correspondence start (positions k in the comparison).
