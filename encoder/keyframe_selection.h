@@ -17,6 +17,11 @@ namespace tdvo {
 //   interpolation error until no coordinate of any frame is off by more than maxError grid
 //   units (greedy refinement, as in polyline simplification).
 // Neither: every frame is a keyframe. Returns the keyframes' offsets in the GOM, ascending.
+// Both searches interpolate frames many times: the dynamic programming n³/6 vertex-frames (and
+// an n x n table), the greedy refinement up to n²/2. Beyond kMaxKeyframeSearchWork vertex
+// interpolations (a GOM of about 2000 frames of a triangle, or 130 frames of 10,000 vertices
+// for KeyframeCount) it throws Error instead, naming the key, the GOM's size and the ways out.
+constexpr double kMaxKeyframeSearchWork = 4294967296.0;  // 2^32
 std::vector<int> selectKeyframes(const std::vector<std::vector<Vec3i>>& frames, int keyframeCount,
                                  double maxError);
 

@@ -2215,6 +2215,16 @@ CATALOGUE_TEST(C38) {
   expectCfgRow("C38", "ReconMeshPattern : in/%03d.obj\n");
 }
 
+CATALOGUE_TEST(C51) {
+  // Frame 2 exists but is not coded (FrameCount 1): still the input's.
+  writeInput("", 3);
+  const std::string before = test::readText(dir_.file("in/002.obj"));
+  std::vector<std::string> args = encoderArgs(1);
+  args.push_back("--BitstreamFile=in/002.obj");
+  expectRow("C51", "3dvo-enc", args);
+  EXPECT_EQ(test::readText(dir_.file("in/002.obj")), before);
+}
+
 CATALOGUE_TEST(C39) {
   expectCfgRow("C39", "", {"-o", "out"});
 }

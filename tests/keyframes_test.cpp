@@ -4,6 +4,7 @@
 
 #include <random>
 
+#include "common/core/error.h"
 #include "common/core/md5.h"
 #include "common/geometry/keyframes.h"
 #include "encoder/keyframe_selection.h"
@@ -89,6 +90,36 @@ TEST(SelectKeyframes, MaxErrorBoundHolds) {
   }
   EXPECT_EQ(selectKeyframes(frames, 0, 0).size(), 20u);  // neither set: every frame
   EXPECT_EQ(selectKeyframes(frames, 1, 0).size(), 2u);   // at least first and last
+}
+
+// The searches' work is bounded (kMaxKeyframeSearchWork): past it an Error, at once, before
+// the n x n table or any interpolation (a 241 KB glTF of 20,000 frames of a tetrahedron took
+// 3.2 GB with KeyframeCount 2; KeyframeMaxError is quadratic). Just below, they run.
+TEST(SelectKeyframes, SearchWorkIsBounded) {
+  const std::vector<std::vector<Vec3i>> big(2049, std::vector<Vec3i>(3, Vec3i{0, 0, 0}));
+  try {
+    selectKeyframes(big, 3, 0);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("KeyframeCount: choosing the keyframes of a GOM of 2049 "
+                                         "frames of 3 vertices would interpolate 4.3e+09 "
+                                         "vertices (more than 2^32)"),
+              std::string::npos)
+        << e.what();
+  }
+  const std::vector<std::vector<Vec3i>> longer(3000, std::vector<Vec3i>(1000, Vec3i{0, 0, 0}));
+  try {
+    selectKeyframes(longer, 0, 1.0);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("KeyframeMaxError: choosing the keyframes of a GOM of "
+                                         "3000 frames"),
+              std::string::npos)
+        << e.what();
+  }
+  const std::vector<std::vector<Vec3i>> fits(200, std::vector<Vec3i>(3, Vec3i{0, 0, 0}));
+  EXPECT_EQ(selectKeyframes(fits, 3, 0).size(), 3u);
+  EXPECT_EQ(selectKeyframes(fits, 0, 1.0).size(), 2u);  // static: first and last
 }
 
 // The DP of the RD choice against every keyframe set, on a made-up interval cost.

@@ -648,6 +648,37 @@ TEST(Gltf, NodeAnimationsMoveTheFrames) {
       << errorOf([&] { frameOf(j); });
 }
 
+// A frame's work counts every node and channel (F18): a chain of n nodes above a tetrahedron,
+// its root's translation animated over n keys, is n^2 node visits from O(n) bytes. At n = 8000
+// (about 400 KB) it is refused at once; it took 8 s when only vertices were counted.
+TEST(Gltf, NodesAndChannelsCountInTheFrameWork) {
+  auto chain = [](int n) {
+    nlohmann::json j = nlohmann::json::parse(formatGltf(tetrahedron(), GltfContainer::kGltf));
+    for (int k = 1; k <= n; ++k)
+      j["nodes"][static_cast<size_t>(k)] = {{"children", {k - 1}}};
+    j["scenes"][0]["nodes"] = {n};
+    std::vector<float> times, moves;
+    for (int k = 0; k < n; ++k) {
+      times.push_back(static_cast<float>(k));
+      moves.insert(moves.end(), {static_cast<float>(k % 7), 0, 0});
+    }
+    const int t = addFloatAccessor(j, times, "SCALAR", n);
+    const int m = addFloatAccessor(j, moves, "VEC3", n);
+    j["animations"] = {
+        {{"samplers", {{{"input", t}, {"output", m}, {"interpolation", "STEP"}}}},
+         {"channels", {{{"sampler", 0}, {"target", {{"node", n}, {"path", "translation"}}}}}}}};
+    const std::string text = j.dump();
+    return std::vector<uint8_t>(text.begin(), text.end());
+  };
+  const GltfFile small(chain(200), "chain.gltf");
+  EXPECT_EQ(small.frameCount(), 200u);
+  EXPECT_NEAR(small.frame(3).positions[1][0], 1 + 3, 1e-6);
+  EXPECT_NE(errorOf([&] {
+              GltfFile(chain(8000), "chain.gltf");
+            }).find("vertex-frames per byte of the file and its buffers"),
+            std::string::npos);
+}
+
 // KHR_mesh_quantization positions (SHORT, 8-byte stride) without indices: 6 vertices in 48
 // bytes are read (a bound of 12 bytes per vertex refused them).
 TEST(Gltf, QuantizedPositionsWithoutIndices) {
