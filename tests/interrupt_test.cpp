@@ -337,6 +337,21 @@ TEST(OutputFolders, CommitAllTakesEveryOutputBackWhenOneFails) {
   EXPECT_EQ(test::listFolder(dir.path() / "out"), std::vector<std::string>{"new.txt"});
   EXPECT_EQ(test::readText(dir.file("old.csv")), "new rows");
   EXPECT_EQ(InterruptRegistry::size(), before);
+  // A folder this run creates, with another output's file staged inside it: when a later
+  // output fails, everything goes, and no empty folder is left (leave-one-out's --Csv inside
+  // its -o folder left one).
+  {
+    OutputFolder out(dir.file("made/deeper"), false);
+    out.write(dir.file("made/deeper/a.png"), "png");
+    StagedFiles csv;
+    csv.write(dir.file("made/deeper/rows.csv"), "rows");
+    StagedFiles blocked;
+    blocked.write(dir.file("blocked"), "x");
+    std::filesystem::create_directories(dir.path() / "blocked" / "inside");
+    EXPECT_THROW(commitAll({&out, &csv, &blocked}), Error);
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "made"));
+  EXPECT_EQ(InterruptRegistry::size(), before);
 }
 
 // An output folder named through a missing folder and back out ("q/../x"): mkdir -p would make

@@ -271,6 +271,10 @@ void writeFileAtomic(const std::string& path, const void* data, size_t size) {
 }
 
 StagedFiles::~StagedFiles() {
+  discard();
+}
+
+void StagedFiles::discard() {
   if (committed_) return;
   // A failed run: its staged files go (a failed commit has already put everything back).
   const auto lock = InterruptRegistry::lock();
@@ -279,6 +283,7 @@ StagedFiles::~StagedFiles() {
       ::unlink(e.staged.c_str());
       InterruptRegistry::drop(e.handle);
     }
+  committed_ = true;  // nothing left to do
 }
 
 void StagedFiles::checkNew(const std::string& path, const std::string& target) {
@@ -392,20 +397,19 @@ void StagedFiles::putInPlace() {
   }
 }
 
-void StagedFiles::finishCommit() {
-  const auto lock = InterruptRegistry::lock();
+void StagedFiles::keepNew() {
   for (Entry& e : entries_) {
     if (!e.renamed) continue;
-    if (!e.backup.empty()) {
-      if (::unlink(e.backup.c_str()) != 0)
-        warn(e.shown + ": the previous file's backup " + e.backup + " could not be removed (" +
-             systemError() + ")");
-      InterruptRegistry::drop(e.backupHandle);
-    } else {
-      InterruptRegistry::drop(e.finalHandle);
-    }
+    InterruptRegistry::drop(e.backup.empty() ? e.finalHandle : e.backupHandle);
   }
   committed_ = true;
+}
+
+void StagedFiles::removePrevious() {
+  for (Entry& e : entries_)
+    if (e.renamed && !e.backup.empty() && ::unlink(e.backup.c_str()) != 0)
+      warn(e.shown + ": the previous file's backup " + e.backup + " could not be removed (" +
+           systemError() + ")");
 }
 
 void InputFiles::add(const std::string& path) {
@@ -537,6 +541,10 @@ OutputFolder::OutputFolder(const std::string& folder, bool overwrite,
 }
 
 OutputFolder::~OutputFolder() {
+  discard();
+}
+
+void OutputFolder::discard() {
   if (committed_) return;
   const auto lock = InterruptRegistry::lock();
   std::error_code ec;
@@ -546,6 +554,7 @@ OutputFolder::~OutputFolder() {
     ::rmdir(made->first.c_str());
     InterruptRegistry::drop(made->second);
   }
+  committed_ = true;  // nothing left to do
 }
 
 void OutputFolder::write(const std::string& path, const void* data, size_t size) {
@@ -647,7 +656,7 @@ void OutputFolder::putInPlace() {
     throw Error(folder_ + ": cannot move the output into place (" + failure +
                 "); the folder is as it was");
   }
-  // In place, the previous entries kept aside until finishCommit (commitAll: the run's other
+  // In place, the previous entries kept aside until removePrevious (commitAll: the run's other
   // outputs may still fail). An interruption from here on takes the commit back: the cleanup
   // runs newest first, so the new entries go, then the previous ones come back, then the
   // (empty) aside folder goes.
@@ -679,16 +688,8 @@ void OutputFolder::takeBack() {
   movedIn_.clear();
 }
 
-void OutputFolder::finishCommit() {
-  const auto lock = InterruptRegistry::lock();
-  ::rmdir(staging_.c_str());
-  std::error_code ec;
-  if (!aside_.empty()) {
-    fs::remove_all(aside_, ec);
-    if (ec)
-      warn(folder_ + ": the previous contents, set aside in " + aside_ +
-           ", could not all be removed (" + ec.message() + ")");
-  }
+void OutputFolder::keepNew() {
+  ::rmdir(staging_.c_str());  // empty: every entry was moved in
   for (const uint64_t handle : undoHandles_)
     InterruptRegistry::drop(handle);
   undoHandles_.clear();
@@ -696,6 +697,15 @@ void OutputFolder::finishCommit() {
   for (const auto& made : created_)
     InterruptRegistry::drop(made.second);
   committed_ = true;
+}
+
+void OutputFolder::removePrevious() {
+  if (aside_.empty()) return;
+  std::error_code ec;
+  fs::remove_all(aside_, ec);
+  if (ec)
+    warn(folder_ + ": the previous contents, set aside in " + aside_ +
+         ", could not all be removed (" + ec.message() + ")");
 }
 
 void commitAll(const std::vector<CommittableOutput*>& outputs) {
@@ -706,10 +716,18 @@ void commitAll(const std::vector<CommittableOutput*>& outputs) {
   } catch (...) {
     while (done > 0)
       outputs[--done]->takeBack();
+    for (auto output = outputs.rbegin(); output != outputs.rend(); ++output)
+      (*output)->discard();
     throw;
   }
+  {
+    // All at once: an interruption either takes every output back or none.
+    const auto lock = InterruptRegistry::lock();
+    for (CommittableOutput* output : outputs)
+      output->keepNew();
+  }
   for (CommittableOutput* output : outputs)
-    output->finishCommit();
+    output->removePrevious();
 }
 
 void makeDirectories(const std::string& path) {

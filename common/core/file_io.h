@@ -65,15 +65,20 @@ std::string readFileMaybeGz(const std::string& path, uint64_t maxBytes = kMaxBin
 // - a run that fails, also while committing, leaves the previous run's files as they were.
 
 // The outputs of one run that are put in place together (commitAll): each puts its new files
-// in place while keeping the previous ones (putInPlace), and the previous ones are removed
-// (finishCommit) only when every output is in place; a later output that fails takes the
-// earlier ones back (takeBack). Between the two steps an interruption takes them back too.
+// in place while keeping the previous ones (putInPlace); when every output is in place, all
+// of them forget how to undo that at once, under the interrupt registry's lock (keepNew), and
+// then remove what they replaced (removePrevious). A later output that fails takes the
+// earlier ones back (takeBack), and every output then removes what it staged (discard, as its
+// destructor would; in reverse order, so that a file staged inside a folder another output
+// created goes before that folder). An interruption before keepNew takes them all back.
 class CommittableOutput {
  public:
   virtual ~CommittableOutput() = default;
-  virtual void putInPlace() = 0;    // Error on failure, with this output as it was
-  virtual void takeBack() = 0;      // after putInPlace: the previous files back in place
-  virtual void finishCommit() = 0;  // after putInPlace: the previous files removed
+  virtual void putInPlace() = 0;      // Error on failure, with this output as it was
+  virtual void takeBack() = 0;        // after putInPlace: the previous files back in place
+  virtual void keepNew() = 0;         // after putInPlace, the registry's lock held by the caller
+  virtual void removePrevious() = 0;  // after keepNew: the previous files removed
+  virtual void discard() = 0;         // not in place: the staged files removed (idempotent)
 };
 
 // Commits `outputs` as one: every one in place, or (an Error) none, each as it was. A run with
@@ -109,7 +114,9 @@ class StagedFiles : public CommittableOutput {
   void commit() { commitAll({this}); }
   void putInPlace() override;
   void takeBack() override;
-  void finishCommit() override;
+  void keepNew() override;
+  void removePrevious() override;
+  void discard() override;
 
  private:
   struct Entry {
@@ -179,7 +186,9 @@ class OutputFolder : public CommittableOutput {
   void commit() { commitAll({this}); }
   void putInPlace() override;
   void takeBack() override;
-  void finishCommit() override;
+  void keepNew() override;
+  void removePrevious() override;
+  void discard() override;
   const std::string& folder() const { return folder_; }
 
  private:
@@ -187,8 +196,8 @@ class OutputFolder : public CommittableOutput {
   std::vector<std::string> previous_;  // the folder's entries when the run started
   uint64_t stagingHandle_ = 0;
   std::vector<std::pair<std::string, uint64_t>> created_;  // folders made, outermost first
-  // Between putInPlace and finishCommit: the previous entries moved aside into `aside_`, the
-  // new ones in place, and the interrupt registry's handles that would undo that.
+  // Between putInPlace and keepNew: the previous entries moved aside into `aside_`, the new
+  // ones in place, and the interrupt registry's handles that would undo that.
   std::string aside_;
   std::vector<std::string> movedAside_, movedIn_;
   std::vector<uint64_t> undoHandles_;

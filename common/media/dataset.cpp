@@ -374,9 +374,9 @@ Dataset readDataset(const std::string& folderOrFile) {
 namespace {
 
 // JSON text of one value (strings escaped, doubles in the shortest form that reads back
-// exactly); negative zero is written as 0.
+// exactly; -0.0 stays -0.0: what was read is written).
 std::string jsonValue(double v) {
-  return Json(v).dump();  // -0.0 stays -0.0: what was read is written
+  return Json(v).dump();
 }
 std::string jsonValue(int v) {
   return Json(v).dump();
