@@ -15,6 +15,9 @@
 //                                   items_per_second = frames/s; ...Md5 adds the per-frame MD5
 //                                   that 3dvo-dec prints
 //   StreamEncode/<condition>/<seq>/threads:<n>  encodeSequence with Threads = n (frames/s)
+//   GomDecode/quality-50[-noB]/<seq> the GOMs of the default Quality (with B meshes; -noB
+//                                   without) through the GOM loop, from each GOM's decoded I
+//                                   mesh: P meshes, B meshes, interpolation (vertex-frames/s)
 //   PMeshBinsOnly/<condition>/<seq> the arithmetic decoding alone of PMeshDecode's payloads:
 //                                   every bin, each with the context the P-mesh decoding used
 //                                   for it (recorded once), decoded in a plain loop; no
@@ -38,9 +41,11 @@
 #include "bench/bench_sequences.h"
 #include "bitstream/pmesh_syntax.h"
 #include "common/core/md5.h"
+#include "decoder/gom_decoder.h"
 #include "decoder/imesh_decoder.h"
 #include "decoder/pmesh_decoder.h"
 #include "decoder/stream_decoder.h"
+#include "encoder/gom_coder.h"
 #include "encoder/imesh_encoder.h"
 #include "encoder/pmesh_encoder.h"
 #include "encoder/quality.h"
@@ -446,6 +451,98 @@ void pmeshDecodeQuality(benchmark::State& state, const BenchSequence& s) {
                  std::to_string(c.quantStep));
 }
 
+// GomDecode/<variant>/<seq>: the geometry of every GOM (GOMSize of cfg/per-sequence) as the
+// default Quality (50) codes it, decoded by the GOM loop (GomDecoder) from its first reference
+// (the decoded I mesh, not timed): its P meshes and, with B meshes (the default), its B meshes.
+// items_per_second = vertex-frames/s of the frames after each GOM's first. Variants: quality-50
+// (the default: B meshes, BMeshGap 8), quality-50-noB (BMeshGap 0, every frame a keyframe).
+struct CodedGoms {
+  int gridBits = 0;
+  std::vector<GomHeader> headers;
+  std::vector<GomReference> firsts;
+  std::vector<std::vector<std::vector<uint8_t>>> payloads;  // per GOM, in stream order
+  int64_t vertexFrames = 0;
+  uint64_t bytes = 0;
+};
+
+class ReplayUnits : public GomUnits {
+ public:
+  explicit ReplayUnits(const std::vector<std::vector<uint8_t>>& payloads) : payloads_(payloads) {}
+  void iMesh(uint32_t, IntMesh&, std::string&) override {
+    throw std::logic_error("bench: the GOM's I mesh is given");
+  }
+  PMeshPayload pMesh(uint32_t) override {
+    const std::vector<uint8_t>& p = payloads_.at(next_++);
+    return {p.data(), p.size(), "bench", nullptr};
+  }
+
+ private:
+  const std::vector<std::vector<uint8_t>>& payloads_;
+  size_t next_ = 0;
+};
+
+const CodedGoms& codedGomsOf(const BenchSequence& s, bool bMeshes) {
+  static std::map<std::string, std::unique_ptr<CodedGoms>> cache;
+  std::unique_ptr<CodedGoms>& coded = cache[s.name + (bMeshes ? "/b" : "/p")];
+  if (coded) return *coded;
+  coded = std::make_unique<CodedGoms>();
+  const Condition& c = qualityCondition(s);
+  EncoderParams params = encoderParams(c, s);
+  params.bMeshGap = bMeshes ? kQualityBMeshGap : 0;
+  const std::vector<Mesh>& frames = framesOf(s);
+  const Grid grid = gridForSequence(frames, c.gridBits, c.fit);
+  coded->gridBits = grid.bits;
+  params.gridBits = grid.bits;
+  for (size_t first = 0; first < frames.size(); first += size_t(s.gomSize)) {
+    const size_t count = std::min(frames.size() - first, size_t(s.gomSize));
+    const GomGeometry g =
+        encodeGomGeometry(params, grid, first,
+                          std::vector<Mesh>(frames.begin() + std::ptrdiff_t(first),
+                                            frames.begin() + std::ptrdiff_t(first + count)),
+                          [](size_t k) { return std::to_string(k); });
+    std::vector<std::vector<uint8_t>> payloads;
+    for (const GomGeometry::Unit& u : g.units) {
+      ByteReader reader(u.payload.data(), u.payload.size(), "bench", 0);
+      if (u.type == UnitType::kGomHeader) {
+        GomHeader gh;
+        transfer(reader, gh);
+        coded->headers.push_back(gh);
+      } else if (u.type == UnitType::kPMesh) {
+        PMeshUnit pm;
+        transfer(reader, pm);
+        coded->bytes += pm.pm_cabac_payload.size();
+        payloads.push_back(std::move(pm.pm_cabac_payload));
+      }
+    }
+    const IntMesh& i = g.iMeshes[0].decoded;
+    coded->firsts.push_back({i, std::make_shared<const GomTopology>(GomTopology::build(i))});
+    coded->payloads.push_back(std::move(payloads));
+    coded->vertexFrames += int64_t(i.positions.size()) * int64_t(count - 1);
+  }
+  return *coded;
+}
+
+void gomDecode(benchmark::State& state, const BenchSequence& s, bool bMeshes) {
+  const CodedGoms& coded = codedGomsOf(s, bMeshes);
+  GomDecoder decoder;
+  for (auto _ : state) {
+    for (size_t g = 0; g < coded.headers.size(); ++g) {
+      ReplayUnits units(coded.payloads[g]);
+      decoder.start(coded.headers[g], coded.gridBits, "bench", &coded.firsts[g]);
+      while (!decoder.done())
+        benchmark::DoNotOptimize(decoder.next(units).data());
+    }
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * coded.vertexFrames);
+  state.counters["bits/vertex"] = 8.0 * double(coded.bytes) / double(coded.vertexFrames);
+  const Condition& c = qualityCondition(s);
+  state.SetLabel("vertex-frames/s, GridBits " + std::to_string(c.gridBits) + " MotionQuantStep " +
+                 std::to_string(c.quantStep) +
+                 (bMeshes ? ", B meshes: BMeshGap " + std::to_string(kQualityBMeshGap) +
+                                " BMeshQuantStep " + std::to_string(2 * c.quantStep)
+                          : ", every frame a keyframe"));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -457,6 +554,10 @@ int main(int argc, char** argv) {
                                    pmeshDecode, s, c)
           ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("PMeshDecode/quality-50" + seq).c_str(), pmeshDecodeQuality, s)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("GomDecode/quality-50" + seq).c_str(), gomDecode, s, true)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("GomDecode/quality-50-noB" + seq).c_str(), gomDecode, s, false)
         ->Unit(benchmark::kMillisecond);
     for (const Condition& c : kConditions)
       benchmark::RegisterBenchmark(("PMeshBinsOnly/" + std::string(c.name) + seq).c_str(),

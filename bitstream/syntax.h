@@ -25,8 +25,10 @@ std::vector<uint8_t> serialise(T value) {
 // Bumped whenever the syntax or the decoding process changes; conformance streams are then
 // regenerated (conformance/README.md). A decoder reads kMinSyntaxVersion .. kSyntaxVersion.
 // Version 2 is version 3 without ATTRIBUTES units: its sequence header has no
-// sh_attributes_present (read as 0), which is the only place the versions differ.
-constexpr uint16_t kSyntaxVersion = 3;
+// sh_attributes_present (read as 0), which is the only place the versions differ. Version 4
+// adds B meshes (gh_pmesh_mode kGhD3dmcBMeshes); its streams without them are version 3's but
+// for sh_syntax_version.
+constexpr uint16_t kSyntaxVersion = 4;
 constexpr uint16_t kMinSyntaxVersion = 2;
 
 // Limits a decoder checks before it allocates anything (docs/bitstream.md, "Limits").
@@ -217,10 +219,16 @@ void transfer(Io& io, SequenceHeader& sh) {
 
 constexpr uint16_t kMaxMotionQuantStep = 4096;
 
+// gh_pmesh_mode: a PMeshMode, or (syntax version 4) kGhD3dmcBMeshes: d3dmc P meshes whose
+// frames between two keyframes are B meshes (P meshes predicted from the interpolation of two
+// decoded frames, docs/bitstream.md, "B meshes") instead of interpolated frames.
+constexpr uint8_t kGhD3dmcBMeshes = 3;
+constexpr uint16_t kMinBMeshSyntaxVersion = 4;
+
 struct GomHeader {
   uint32_t gh_first_frame = 0;
   uint16_t gh_frame_count = 1;
-  uint8_t gh_pmesh_mode = 0;  // PMeshMode
+  uint8_t gh_pmesh_mode = 0;  // PMeshMode or kGhD3dmcBMeshes
   // Present unless gh_pmesh_mode is intra:
   // 1: a random access point, the GOM starts with an I mesh (and its VERTEX_ORDER); 0: the GOM
   // continues the previous GOM's connectivity, its first frame is a P mesh predicted from the
@@ -228,21 +236,34 @@ struct GomHeader {
   uint8_t gh_random_access = 1;
   uint16_t gh_motion_quant_step = 1;  // residual quantiser step, grid units
   uint8_t gh_max_octree_depth = 12;   // d3dmc only; the decoder checks <= sh_grid_bits
+  uint16_t gh_bmesh_quant_step = 0;   // kGhD3dmcBMeshes only: the B meshes' quantiser step
   // Keyframes: offsets in the GOM, ascending, first 0 and last gh_frame_count - 1; coded as
   // gh_num_keyframes and the gaps gh_keyframe_delta between consecutive keyframes.
   std::vector<uint16_t> keyframes{0};
 };
 
+// The P-mesh coding of a GOM (kGhD3dmcBMeshes codes its P and B meshes as d3dmc does), and
+// whether the frames between its keyframes are B meshes.
+inline PMeshMode codingMode(const GomHeader& gh) {
+  return gh.gh_pmesh_mode == kGhD3dmcBMeshes ? PMeshMode::kD3dmc
+                                             : static_cast<PMeshMode>(gh.gh_pmesh_mode);
+}
+inline bool hasBMeshes(const GomHeader& gh) {
+  return gh.gh_pmesh_mode == kGhD3dmcBMeshes;
+}
+
 template <class Io>
 void transfer(Io& io, GomHeader& gh) {
   io.u32("gh_first_frame", gh.gh_first_frame, 0, kMaxFrames - 1);
   io.u16("gh_frame_count", gh.gh_frame_count, 1, kMaxGomFrames);
-  io.u8("gh_pmesh_mode", gh.gh_pmesh_mode, 0, 2);
+  io.u8("gh_pmesh_mode", gh.gh_pmesh_mode, 0, kGhD3dmcBMeshes);
   if (gh.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kIntra)) return;
   io.u8("gh_random_access", gh.gh_random_access, 0, 1);
   io.u16("gh_motion_quant_step", gh.gh_motion_quant_step, 1, kMaxMotionQuantStep);
-  if (gh.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kD3dmc))
+  if (codingMode(gh) == PMeshMode::kD3dmc)
     io.u8("gh_max_octree_depth", gh.gh_max_octree_depth, 0, 20);
+  if (gh.gh_pmesh_mode == kGhD3dmcBMeshes)
+    io.u16("gh_bmesh_quant_step", gh.gh_bmesh_quant_step, 1, kMaxMotionQuantStep);
   uint16_t count = static_cast<uint16_t>(gh.keyframes.size());
   const uint16_t minCount = gh.gh_frame_count == 1 ? 1 : 2;
   io.u16("gh_num_keyframes", count, minCount, gh.gh_frame_count);

@@ -2,9 +2,11 @@
 // order, from its coded units: each frame's I mesh in an intra GOM; in a GOM of P meshes the
 // I mesh (or the previous GOM's last frame), the P mesh of every further keyframe predicted from
 // the previous keyframe (d3dmc or afxic, by gh_pmesh_mode), and the frames between keyframes
-// interpolated. Written once: the stream decoder (its geometry pass and its texture pass,
-// decoder/stream_decoder.cpp) and the encoder's closed loop (encoder/gom_coder.cpp) all make
-// their frames with a GomDecoder, so the encoder's reconstruction is the decoder's.
+// interpolated or, in a GOM of B meshes, each coded as a B mesh predicted from the interpolation
+// of the nearest decoded frames around it (docs/bitstream.md, "B meshes"). Written once: the stream
+// decoder (its geometry pass and its texture pass, decoder/stream_decoder.cpp) and the encoder's
+// closed loop (encoder/gom_coder.cpp) all make their frames with a GomDecoder, so the encoder's
+// reconstruction is the decoder's.
 #pragma once
 
 #include <cstddef>
@@ -37,7 +39,7 @@ class GomUnits {
   // of P meshes that is a random access point), into `mesh`; `where` names it in messages
   // about its connectivity (GomTopology::build).
   virtual void iMesh(uint32_t k, IntMesh& mesh, std::string& where) = 0;
-  // The P mesh of the GOM's keyframe `k` (offset in the GOM).
+  // The P mesh of the GOM's keyframe `k` (offset in the GOM), or the B mesh of its frame `k`.
   virtual PMeshPayload pMesh(uint32_t k) = 0;
 };
 
@@ -52,6 +54,11 @@ struct GomReference {
 
 class GomDecoder {
  public:
+  GomDecoder() = default;
+  // Not copied or moved: reference() and params() point into the decoder itself.
+  GomDecoder(const GomDecoder&) = delete;
+  GomDecoder& operator=(const GomDecoder&) = delete;
+
   // Starts GOM `gh` of a stream whose grid has `gridBits` bits; `where` names its GOM header
   // in messages. A GOM with gh_random_access 0 continues this decoder's last GOM of P meshes,
   // or `first` when given. With `first` and gh_random_access 1, `first` is the GOM's I mesh
@@ -66,6 +73,9 @@ class GomDecoder {
   const std::vector<Vec3i>& next(GomUnits& units);
   const std::vector<Triangle>& triangles() const { return mesh_.triangles; }
   uint32_t produced() const { return produced_; }
+  // Decoded frames waiting to be handed out (with B meshes: at most about log2 of the keyframe
+  // gap + 1; otherwise at most the next keyframe).
+  size_t waitingFrames() const { return bMeshes_ ? stackSize_ : 1; }
   bool done() const { return produced_ == frameCount_; }
 
   // With `keep`, the first reference of every GOM of P meshes is kept (a copy of one frame) for
@@ -82,21 +92,29 @@ class GomDecoder {
   // before a frame range without decoding them).
   void clearContinuation() { canContinue_ = false; }
 
-  // In a GOM of P meshes, while a P mesh is asked for (GomUnits::pMesh) and once the GOM is
-  // done: the decoded keyframe the next P mesh is predicted from, and the GOM's topology
-  // (d3dmc).
-  const std::vector<Vec3i>& reference() const { return previous_; }
+  // In a GOM of P meshes, only while a P or B mesh is asked for (GomUnits::pMesh): the
+  // positions it is predicted from (the previous decoded keyframe, or a B mesh's interpolated
+  // reference) and its parameters (a B mesh's quantiser is gh_bmesh_quant_step); and the GOM's
+  // topology (d3dmc).
+  // std::logic_error when no P or B mesh is being asked for.
+  const std::vector<Vec3i>& reference() const;
+  const PMeshParams& params() const;
   const GomTopology& topology() const { return *topology_; }
-  const PMeshParams& params() const { return params_; }
 
  private:
   void startPMeshes(GomUnits& units);
+  // Decodes the P or B mesh of GOM frame `k` from `reference` into `out`.
+  void decodeMesh(GomUnits& units, uint32_t k, const std::vector<Vec3i>& reference,
+                  const PMeshParams& params, std::vector<Vec3i>& out);
+  const std::vector<Vec3i>& nextWithBMeshes(GomUnits& units, uint32_t f, int a, int b);
 
   PMeshMode mode_ = PMeshMode::kIntra;
   bool randomAccess_ = true;
   uint32_t frameCount_ = 0;
   std::vector<uint16_t> keyframes_;
   PMeshParams params_;
+  PMeshParams bParams_;  // a B mesh's: params_ with gh_bmesh_quant_step
+  bool bMeshes_ = false;
   std::string where_;
   const GomReference* given_ = nullptr;  // start()'s `first`, until the first frame is made
   bool keepFirst_ = false;
@@ -108,6 +126,17 @@ class GomDecoder {
   IntMesh mesh_;  // the connectivity; positions: the intra frame, or the interpolated frame
   std::shared_ptr<const GomTopology> topology_;
   std::vector<Vec3i> previous_, key_;  // the previous decoded keyframe, the next one
+  // With B meshes: previous_ is the last frame handed out, and the decoded frames to the right
+  // of it wait in a stack, the nearest on top: stackFrames_[0 .. stackSize_) are their GOM
+  // offsets, stack_[i] their positions (buffers kept for reuse). At most about log2 of the
+  // keyframe gap + 1 frames.
+  std::vector<int> stackFrames_;
+  std::vector<std::vector<Vec3i>> stack_;
+  size_t stackSize_ = 0;
+  std::vector<Vec3i> interpolated_;  // a B mesh's reference
+  // What reference() and params() return: set by decodeMesh before it asks for the unit.
+  const std::vector<Vec3i>* reference_ = nullptr;
+  const PMeshParams* pendingParams_ = nullptr;
   PMeshWorkspace work_;
 };
 

@@ -362,6 +362,10 @@ GomHeader StreamDecoder::Decoding::readGomHeader() {
   if (uint64_t{gh.gh_first_frame} + gh.gh_frame_count > sh_.sh_frame_count)
     throw Error(gomWhere_ + ": GOM of " + std::to_string(gh.gh_frame_count) +
                 " frames runs past sh_frame_count " + std::to_string(sh_.sh_frame_count));
+  if (hasBMeshes(gh) && sh_.sh_syntax_version < kMinBMeshSyntaxVersion)
+    throw Error(gomWhere_ + ": gh_pmesh_mode " + std::to_string(gh.gh_pmesh_mode) +
+                " (B meshes) needs sh_syntax_version " + std::to_string(kMinBMeshSyntaxVersion) +
+                ", the stream has " + std::to_string(sh_.sh_syntax_version));
   if (gh.gh_random_access) d_.gomStarts_.push_back(gh.gh_first_frame);
   return gh;
 }
@@ -396,7 +400,7 @@ void StreamDecoder::Decoding::decodeGeometry(const GomHeader& gh) {
 
 // Starts the GOM's geometry: its frames are then made by gom_.next(*this).
 void StreamDecoder::Decoding::startGeometry(const GomHeader& gh) {
-  mode_ = static_cast<PMeshMode>(gh.gh_pmesh_mode);
+  mode_ = codingMode(gh);
   gomFirst_ = gh.gh_first_frame;
   gomFrames_ = gh.gh_frame_count;
   gom_.start(gh, sh_.sh_grid_bits, gomWhere_);

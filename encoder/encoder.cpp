@@ -27,6 +27,7 @@ struct Encoder::State {
   std::optional<Dataset> dataset;
   Grid grid;                  // the last encode()'s
   std::string qualityReport;  // the last encode()'s (resolveQuality)
+  EncoderParams coded;        // the last encode()'s parameters, Quality resolved
 
   State() { params.registerOptions(table); }
 };
@@ -59,6 +60,10 @@ const std::string& Encoder::qualityReport() const {
   return s_->qualityReport;
 }
 
+const EncoderParams& Encoder::codedParams() const {
+  return s_->coded;
+}
+
 bool Encoder::wasSet(const std::string& key) const {
   return s_->table.wasSet(key);
 }
@@ -73,6 +78,11 @@ const EncoderParams& Encoder::params() {
   if (s.resolved) return *s.resolved;
   EncoderParams p = s.params;
   p.validateCoding();
+  const IsSetFunction isSet = [&s](const std::string& key) { return s.table.wasSet(key); };
+  check(!isSet("BMeshQuantStep") || p.bMeshGap > 0 || qualityCodesBMeshes(p, isSet),
+        "BMeshQuantStep is set, but no B meshes are coded: set BMeshGap (2 or more), or let "
+        "Quality code them (PMeshMode d3dmc, no keyframe key, GridBits and MotionQuantStep "
+        "not set)");
   s.dataset.reset();
   if (!p.dataset.empty()) {
     s.dataset = readDataset(p.dataset);
@@ -208,6 +218,7 @@ EncodedSequence Encoder::encode(const FrameSource& given, const FrameCallback& o
     first.read = [&kept](size_t k) { return kept.at(k); };
     p = resolveQuality(p, bounds, first, isSet, &s_->qualityReport);
   }
+  s_->coded = p;
   kept = {};  // the encode holds no more than its GOMs
   const Grid grid = s_->grid = gridFor(bounds, p.gridBits, p.gridFit);
   std::unique_ptr<TextureEncoder> textures;

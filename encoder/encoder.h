@@ -55,6 +55,9 @@ class Encoder {
   const Grid& grid() const;
   // What Quality chose in the last encode() (one line; empty when Quality is off).
   const std::string& qualityReport() const;
+  // The parameters the last encode() coded with: params() with Quality's choices (GridFit,
+  // GridBits, MotionQuantStep, BMeshGap or KeyframeLambda).
+  const EncoderParams& codedParams() const;
   // The option table (3dvo-enc parses its command line with it; --help lists it).
   OptionTable& options();
 

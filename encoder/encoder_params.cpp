@@ -30,9 +30,10 @@ void EncoderParams::registerOptions(OptionTable& t) {
         "one knob for the geometry's rate and precision, 0 (coarsest) .. 100 (finest): a "
         "target step of 1/2^(5 + Quality/10) of the object's size, reached by the grid and "
         "quantiser (GridFit object, GridBits, MotionQuantStep) that code the first frames at "
-        "the least rate + distortion, and keyframes by rate and distortion; GridFit, Lambda "
-        "and keyframe keys set are kept; GridBits or MotionQuantStep set = coding by hand "
-        "(Quality changes nothing); -1 = off (every key at its own value)");
+        "the least rate + distortion, then B meshes (BMeshGap 8; PMeshMode d3dmc) or, with "
+        "afxic or BMeshGap 0, keyframes by rate and distortion; GridFit, Lambda, BMeshGap, "
+        "BMeshQuantStep and keyframe keys set are kept; GridBits or MotionQuantStep set = "
+        "coding by hand (Quality changes nothing); -1 = off (every key at its own value)");
   t.section("Geometry");
   t.add("GridBits", gridBits, 8, 20,
         "precision of the integer grid: 2^GridBits - 1 steps span the sequence's bounding box "
@@ -106,6 +107,16 @@ void EncoderParams::registerOptions(OptionTable& t) {
         "J = D + KeyframeLambda * R (D: squared error of every frame against the quantised "
         "input, in grid units; R: P-mesh bits), never worse in J than every frame a keyframe; "
         "0 = off; -1 = automatic: 0.4 * MotionQuantStep^2");
+  t.section("B meshes (PMeshMode d3dmc)");
+  t.add("BMeshGap", bMeshGap, 0, static_cast<int>(kMaxGomFrames),
+        "keyframes every this many frames of a GOM (and its last frame), and each frame "
+        "between two keyframes coded as a B mesh: a P mesh predicted from the interpolation "
+        "of the nearest decoded frames around it, halving the interval (hierarchical B "
+        "frames); 0 = off (frames between keyframes are interpolations); excludes the "
+        "Keyframe keys");
+  t.add("BMeshQuantStep", bMeshQuantStep, -1, kMaxMotionQuantStep,
+        "quantiser step of the B meshes' motion residuals in grid units; -1 = automatic: 2 * "
+        "MotionQuantStep");
   t.section("Speed");
   t.add("Threads", threads, 0, 256,
         "GOMs encoded in parallel (0 = hardware concurrency); the stream, the MD5 lines and "
@@ -148,15 +159,28 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.derivedWhenUnset("GridBits", byQuality + "; setting it codes by hand");
   t.derivedWhenUnset("MotionQuantStep", byQuality + "; setting it codes by hand");
   const std::string keyframes =
-      "Quality chooses keyframes by rate and distortion unless a keyframe key is set";
+      "unless a keyframe key is set, Quality chooses the keyframes: by BMeshGap with d3dmc, "
+      "else by rate and distortion";
   t.derivedWhenUnset("KeyframeCount", keyframes);
   t.derivedWhenUnset("KeyframeMaxError", keyframes);
   t.derivedWhenUnset("KeyframeLambda", keyframes);
+  t.derivedWhenUnset("BMeshGap",
+                     "Quality (not coding by hand) codes B meshes, BMeshGap 8, with PMeshMode "
+                     "d3dmc unless a keyframe key is set");
 }
 
 double EncoderParams::effectiveLambda() const {
+  return lambdaFor(motionQuantStep);
+}
+
+double EncoderParams::lambdaFor(int quantStep) const {
   if (lambda >= 0) return lambda;
-  return motionQuantStep == 1 ? 0.0 : kAutoLambdaFactor * motionQuantStep * motionQuantStep;
+  return quantStep == 1 ? 0.0 : kAutoLambdaFactor * quantStep * quantStep;
+}
+
+int EncoderParams::effectiveBMeshQuantStep() const {
+  if (bMeshQuantStep > 0) return bMeshQuantStep;
+  return std::min(kAutoBMeshQuantFactor * motionQuantStep, int{kMaxMotionQuantStep});
 }
 
 double EncoderParams::effectiveKeyframeLambda() const {
@@ -220,6 +244,14 @@ void EncoderParams::validateCoding() const {
   check(pmeshMode != PMeshMode::kIntra ||
             (keyframeCount == 0 && keyframeMaxError == 0 && keyframeLambda == 0),
         "keyframes need P meshes: PMeshMode intra codes every frame");
+  check(bMeshGap != 1, "BMeshGap 1 leaves no frame between keyframes: set 2 or more, or 0 (off)");
+  check(bMeshQuantStep == -1 || bMeshQuantStep >= 1,
+        "BMeshQuantStep must be -1 (automatic) or 1 or more");
+  check(bMeshGap == 0 || pmeshMode == PMeshMode::kD3dmc,
+        "B meshes (BMeshGap) need PMeshMode d3dmc");
+  check(bMeshGap == 0 || (keyframeCount == 0 && keyframeMaxError == 0 && keyframeLambda == 0),
+        "BMeshGap chooses the keyframes itself: it excludes KeyframeCount, KeyframeMaxError and "
+        "KeyframeLambda");
   // Before any frame is read: a bad GOM list is found at once.
   // (FrameCount 0, all frames, is checked once the frames are counted.)
   if (!gomListFile.empty() && frameCount > 0) goms(static_cast<size_t>(frameCount));

@@ -57,6 +57,10 @@ struct EncoderParams {
   int keyframeCount = 0;
   double keyframeMaxError = 0;
   double keyframeLambda = 0;  // > 0: RD keyframe choice; -1: automatic (effectiveKeyframeLambda)
+  // B meshes (d3dmc): > 0: keyframes every bMeshGap frames of a GOM (and its last frame), the
+  // frames between coded as B meshes; 0 = off
+  int bMeshGap = 0;
+  int bMeshQuantStep = -1;  // the B meshes' quantiser; -1: automatic (effectiveBMeshQuantStep)
   // Speed
   int threads = 1;  // GOMs encoded in parallel; 0 = hardware concurrency (see threadCount())
   // Textures (coded when Dataset is set)
@@ -76,6 +80,12 @@ struct EncoderParams {
   // above, so that coarser residual quantisation also means coarser clustering.
   static constexpr double kAutoLambdaFactor = 0.1;
   double effectiveLambda() const;
+  // The same for P meshes of quantiser `quantStep` (B meshes have their own).
+  double lambdaFor(int quantStep) const;
+  // BMeshQuantStep when set (> 0), else kAutoBMeshQuantFactor * MotionQuantStep (at most
+  // kMaxMotionQuantStep): docs/prediction.md, "B meshes", says how it was chosen.
+  static constexpr int kAutoBMeshQuantFactor = 2;
+  int effectiveBMeshQuantStep() const;
   // The lambda of the rate-distortion keyframe choice (squared grid units per bit): 0 when
   // KeyframeLambda is 0 (off); KeyframeLambda when > 0; automatic (-1):
   // kAutoKeyframeLambdaFactor * MotionQuantStep^2 (docs/options.md says how it was chosen).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <utility>
@@ -80,7 +81,7 @@ class GomCoder : public GomUnits {
     gh.gh_pmesh_mode = static_cast<uint8_t>(params_.pmeshMode);
     gh.gh_motion_quant_step = static_cast<uint16_t>(pmParams_.quantStep);
     gh.gh_max_octree_depth = static_cast<uint8_t>(pmParams_.maxDepth);
-    if (pMeshes) {
+    if (pMeshes && (params_.bMeshGap == 0 || count <= 2)) {
       std::vector<std::vector<Vec3i>> positions;
       for (const IntMesh& m : inputs_)
         positions.push_back(m.positions);
@@ -88,7 +89,16 @@ class GomCoder : public GomUnits {
           selectKeyframes(positions, params_.keyframeCount, params_.keyframeMaxError);
       gh.keyframes.assign(keys.begin(), keys.end());
     }
-    if (pMeshes && params_.keyframeLambda != 0 && count > 2)
+    if (pMeshes && params_.bMeshGap > 0 && count > 2) {
+      // Keyframes every BMeshGap frames and the last; B meshes between them.
+      gh.keyframes.clear();
+      for (size_t k = 0; k < count - 1; k += static_cast<size_t>(params_.bMeshGap))
+        gh.keyframes.push_back(static_cast<uint16_t>(k));
+      gh.keyframes.push_back(static_cast<uint16_t>(count - 1));
+      gh.gh_pmesh_mode = kGhD3dmcBMeshes;
+      gh.gh_bmesh_quant_step = static_cast<uint16_t>(params_.effectiveBMeshQuantStep());
+      codeFrames(gh, continues, false);
+    } else if (pMeshes && params_.keyframeLambda != 0 && count > 2)
       codeRdKeyframes(gh, continues);
     else
       codeFrames(gh, continues, false);
@@ -137,15 +147,14 @@ class GomCoder : public GomUnits {
     target_.resize(i.inputIndex.size());
     for (size_t j = 0; j < target_.size(); ++j)
       target_[j] = inputs_[k].positions[i.inputIndex[j]];
-    PMeshEncoding p = codePMesh(decoder_.reference(), target_);
+    PMeshEncoding p = codePMesh(decoder_.reference(), target_, decoder_.params());
     PMeshUnit pm;
     pm.pm_frame = static_cast<uint32_t>(first_ + k);
     pm.pm_cabac_payload = std::move(p.payload);
     out_.units.push_back({UnitType::kPMesh, serialise(pm)});
     pMeshBits_[k] = 8.0 * static_cast<double>(out_.units.back().payload.size());
     payload_ = std::move(pm.pm_cabac_payload);
-    pendingFrame_ = k;
-    pending_ = std::move(p.reconstruction);
+    pending_[k] = std::move(p.reconstruction);
     return {payload_.data(), payload_.size(), "encoder's own P mesh", nullptr};
   }
 
@@ -153,11 +162,13 @@ class GomCoder : public GomUnits {
   std::string name(size_t k) const { return frameName_(first_ + k); }
 
   // The P mesh of `target` predicted from `previous` (both in the GOM's vertex order).
-  PMeshEncoding codePMesh(const std::vector<Vec3i>& previous, const std::vector<Vec3i>& target) {
+  // `params`: the GOM's (pmParams_), or a B mesh's.
+  PMeshEncoding codePMesh(const std::vector<Vec3i>& previous, const std::vector<Vec3i>& target,
+                          const PMeshParams& params) {
     return params_.pmeshMode == PMeshMode::kD3dmc
-               ? encodePMesh(decoder_.topology(), previous, target, pmParams_,
-                             params_.effectiveLambda())
-               : encodeTemporalDpcm(previous, target, pmParams_);
+               ? encodePMesh(decoder_.topology(), previous, target, params,
+                             params_.lambdaFor(params.quantStep))
+               : encodeTemporalDpcm(previous, target, params);
   }
 
   // Codes the GOM with the keyframes of `gh` into out_ (the GOM header, its units and frames),
@@ -173,13 +184,17 @@ class GomCoder : public GomUnits {
       continued.mesh = {continuation_->last, continuation_->iMesh->decoded.triangles, {}};
     }
     pMeshBits_.assign(inputs_.size(), 0.0);
-    pendingFrame_ = SIZE_MAX;
+    pending_.clear();
     decoder_.start(gh, params_.gridBits, "encoder's own GOM", continues ? &continued : nullptr);
     for (size_t k = 0; k < inputs_.size(); ++k) {
       const std::vector<Vec3i>& positions = decoder_.next(*this);
-      if (k == pendingFrame_ && positions != pending_)
-        throw std::logic_error("P-mesh reconstruction differs from the decoder's (frame " +
-                               std::to_string(first_ + k) + ")");
+      const auto coded = pending_.find(k);
+      if (coded != pending_.end()) {
+        if (positions != coded->second)
+          throw std::logic_error("P-mesh reconstruction differs from the decoder's (frame " +
+                                 std::to_string(first_ + k) + ")");
+        pending_.erase(coded);
+      }
       emit(positions,
            keepInputs ? std::vector<Vec3i>(inputs_[k].positions) : std::move(inputs_[k].positions));
     }
@@ -246,7 +261,7 @@ class GomCoder : public GomUnits {
     const auto cost = [&](int a, int b) {
       const std::vector<Vec3i>& ka = all.frames[a].positions;
       if (b == a + 1) return squared(all.frames[b].positions, target[b]) + lambda * allBits[b];
-      const PMeshEncoding p = codePMesh(ka, target[b]);
+      const PMeshEncoding p = codePMesh(ka, target[b], pmParams_);
       PMeshUnit pm;
       pm.pm_frame = static_cast<uint32_t>(first_ + b);
       pm.pm_cabac_payload = p.payload;
@@ -448,11 +463,13 @@ class GomCoder : public GomUnits {
   // How the GOM's normals are carried: kNone, kComputed, or coded (kPerVertex stands for
   // coded; encodeAttributes chooses per vertex or per corner).
   NormalMode normalMode_ = NormalMode::kNone;
-  GomDecoder decoder_;              // makes the GOM's frames from the units coded here
-  std::vector<Vec3i> target_;       // a keyframe's input in the GOM's vertex order
-  std::vector<uint8_t> payload_;    // the last P mesh's payload, while the decoder reads it
-  size_t pendingFrame_ = SIZE_MAX;  // the last P mesh's frame and the encoder's reconstruction
-  std::vector<Vec3i> pending_;
+  GomDecoder decoder_;            // makes the GOM's frames from the units coded here
+  std::vector<Vec3i> target_;     // a keyframe's input in the GOM's vertex order
+  std::vector<uint8_t> payload_;  // the last P mesh's payload, while the decoder reads it
+  // The encoder's reconstruction of each P or B mesh coded, by GOM frame, until the decoder's
+  // GOM loop hands that frame out (with B meshes, a few frames later: at most about log2 of
+  // BMeshGap + 1 are waiting).
+  std::map<size_t, std::vector<Vec3i>> pending_;
   std::vector<double> pMeshBits_;  // per GOM frame: its P-mesh unit's bits (0: none)
   // codeRdKeyframes codes a GOM twice: the I mesh's units and encoding from the first time.
   bool keepIMesh_ = false;

@@ -199,8 +199,15 @@ int main(int argc, char** argv) {
         keyframes += k;
         perGom += (perGom.empty() ? "" : " ") + std::to_string(k);
       }
-      std::printf("keyframes           : %zu of %zu frames (per GOM: %s)\n", keyframes,
-                  source.count, perGom.c_str());
+      std::string others;
+      if (keyframes < source.count)
+        others = params.bMeshGap > 0 && params.pmeshMode == PMeshMode::kD3dmc
+                     ? "; the others are B meshes (BMeshGap " + std::to_string(params.bMeshGap) +
+                           ", BMeshQuantStep " + std::to_string(params.effectiveBMeshQuantStep()) +
+                           ")"
+                     : "; the others are interpolated";
+      std::printf("keyframes           : %zu of %zu frames (per GOM: %s)%s\n", keyframes,
+                  source.count, perGom.c_str(), others.c_str());
     }
     std::printf("bits/vertex/frame   : %.4f (geometry and headers only)\n",
                 geometryBits / static_cast<double>(coded.vertexFrames));

@@ -85,7 +85,16 @@ bool codedByHand(const IsSetFunction& isSet) {
   return isSet("GridBits") || isSet("MotionQuantStep");
 }
 
+bool keyframeKeysSet(const IsSetFunction& isSet) {
+  return isSet("KeyframeLambda") || isSet("KeyframeCount") || isSet("KeyframeMaxError");
+}
+
 }  // namespace
+
+bool qualityCodesBMeshes(const EncoderParams& params, const IsSetFunction& isSet) {
+  return params.quality >= 0 && !codedByHand(isSet) && params.pmeshMode == PMeshMode::kD3dmc &&
+         !isSet("BMeshGap") && !keyframeKeysSet(isSet);
+}
 
 size_t qualityTrialFrames(const EncoderParams& params, size_t frameCount,
                           const IsSetFunction& isSet) {
@@ -109,6 +118,8 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
   }
   EncoderParams p = params;
   if (!isSet("GridFit")) p.gridFit = GridFit::kObject;
+  // B meshes before the trial, so that it measures the coding the encode will use.
+  if (qualityCodesBMeshes(params, isSet)) p.bMeshGap = kQualityBMeshGap;
   const double precision = kQualityBitsAtZero + kQualityBitsPerStep * p.quality;
   // Δ, world units, over the size 2^GridBits - 1 steps span as gridFor() will use it.
   const double target = bounds.spannedSize(p.gridFit) / std::exp2(precision);
@@ -160,17 +171,17 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
   }
   p.gridBits = candidates[best].gridBits;
   p.motionQuantStep = candidates[best].step;
-  // Keyframes chosen by rate and distortion (never a loss), unless the user chose them.
-  if (!intra && !isSet("KeyframeLambda") && !isSet("KeyframeCount") && !isSet("KeyframeMaxError"))
-    p.keyframeLambda = -1;
+  // Without B meshes (afxic, or BMeshGap 0): keyframes chosen by rate and distortion (never a
+  // loss), unless the user chose them.
+  if (!keyframeKeysSet(isSet) && p.bMeshGap == 0 && !intra) p.keyframeLambda = -1;
   if (report) {
     char text[256];
     std::snprintf(text, sizeof text,
                   "Quality %d: %.1f bits over the %s (step %.6g): GridFit %s, GridBits %d, "
-                  "MotionQuantStep %d, Lambda %g, KeyframeLambda %g",
+                  "MotionQuantStep %d, Lambda %g, KeyframeLambda %g, BMeshGap %d",
                   p.quality, precision, p.gridFit == GridFit::kObject ? "object" : "sequence",
                   target, p.gridFit == GridFit::kObject ? "object" : "sequence", p.gridBits,
-                  p.motionQuantStep, p.effectiveLambda(), p.keyframeLambda);
+                  p.motionQuantStep, p.effectiveLambda(), p.keyframeLambda, p.bMeshGap);
     *report = text;
     if (!measured.empty())
       *report += " (chosen by coding the first frames with each candidate: " + measured + ")";

@@ -11,9 +11,10 @@
 // candidate codes the first frames of the sequence (at most kQualityTrialFrames, in the first
 // GOM) and the candidate with the least J = D + λ·R, extrapolated to the whole sequence, wins
 // (D: squared distance of the decoded vertices to the input's, R: bits; λ = (ln 2 / 6)·Δ², the
-// slope of an entropy-coded uniform quantiser of step Δ). Keys the user sets are kept (GridFit,
-// Lambda, KeyframeLambda); setting GridBits or MotionQuantStep means coding by hand: Quality
-// then changes nothing.
+// slope of an entropy-coded uniform quantiser of step Δ). With d3dmc it then turns on B meshes
+// (BMeshGap kQualityBMeshGap; else, or with BMeshGap 0, keyframes by rate and distortion). Keys
+// the user sets are kept (GridFit, Lambda, KeyframeLambda, BMeshGap, BMeshQuantStep); setting
+// GridBits or MotionQuantStep means coding by hand: Quality then changes nothing.
 #pragma once
 
 #include <functional>
@@ -27,6 +28,7 @@ namespace tdvo {
 constexpr int kQualityTrialFrames = 8;
 constexpr double kQualityBitsAtZero = 5.0;
 constexpr double kQualityBitsPerStep = 0.1;  // bits of precision per Quality step
+constexpr int kQualityBMeshGap = 8;          // BMeshGap under Quality (d3dmc)
 
 // Whether the user set a cfg key (it then keeps its value).
 using IsSetFunction = std::function<bool(const std::string& key)>;
@@ -37,6 +39,10 @@ using IsSetFunction = std::function<bool(const std::string& key)>;
 // that read them already (the bounds pass) can keep them and serve them to the trial.
 size_t qualityTrialFrames(const EncoderParams& params, size_t frameCount,
                           const IsSetFunction& isSet);
+
+// Whether Quality turns B meshes on (BMeshGap kQualityBMeshGap): Quality on, not coding by
+// hand, PMeshMode d3dmc, and neither BMeshGap nor a keyframe key set.
+bool qualityCodesBMeshes(const EncoderParams& params, const IsSetFunction& isSet);
 
 // `params` with Quality resolved (Quality < 0: `params` unchanged). `source` and `bounds` are the
 // sequence's; the trial reads frames 0 .. qualityTrialFrames() - 1 through `source` once.

@@ -100,7 +100,11 @@ int extractPayloads(const fs::path& streamPath, const fs::path& out) {
       ++written;
     } else if (unit.type == static_cast<uint8_t>(UnitType::kPMesh)) {
       const PMeshUnit pm = parseUnit<PMeshUnit>(unit);
-      const uint16_t step = static_cast<uint16_t>(gh.gh_motion_quant_step - 1);
+      // A B mesh (a frame between keyframes) has its own quantiser.
+      const bool keyframe = std::find(gh.keyframes.begin(), gh.keyframes.end(),
+                                      pm.pm_frame - gh.gh_first_frame) != gh.keyframes.end();
+      const uint16_t step = static_cast<uint16_t>(
+          (hasBMeshes(gh) && !keyframe ? gh.gh_bmesh_quant_step : gh.gh_motion_quant_step) - 1);
       std::vector<uint8_t> seed = {
           static_cast<uint8_t>(gh.gh_pmesh_mode == static_cast<uint8_t>(PMeshMode::kAfxic)),
           static_cast<uint8_t>(step & 0xFF), static_cast<uint8_t>(step >> 8),

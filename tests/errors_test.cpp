@@ -265,6 +265,17 @@ std::vector<Unit> afxicUnits() {
   return units;
 }
 
+// The base units with GOM 0 turned into a GOM of B meshes (gh_pmesh_mode 3) with
+// gh_bmesh_quant_step `step`; its frames are all keyframes, so it has no B mesh.
+std::vector<Unit> bMeshUnits(uint16_t step) {
+  std::vector<Unit> units = baseUnits();
+  std::vector<uint8_t>& gh = units[1].payload;
+  gh[kGhMode] = kGhD3dmcBMeshes;
+  gh.insert(gh.begin() + kGhDepth + 1,
+            {static_cast<uint8_t>(step), static_cast<uint8_t>(step >> 8)});
+  return units;
+}
+
 // `goms` d3dmc GOMs of `gomFrames` frames of a static flat n x n sheet (n^2 vertices), the
 // keyframes of each GOM its first and last frame: encoded as GOMs of 2 frames, then renumbered.
 // The frames between keyframes cost no bytes, so the decoded output per stream byte is as
@@ -745,7 +756,7 @@ CATALOGUE_TEST(G03) {
 
 CATALOGUE_TEST(G04) {
   std::vector<Unit> units = baseUnits();
-  units[1].payload[kGhMode] = 3;
+  units[1].payload[kGhMode] = 4;
   expectUnitsRow("G04", units);
 }
 
@@ -1344,6 +1355,24 @@ CATALOGUE_TEST(G16) {
   std::vector<Unit> units = baseUnits();
   units[1].payload[kGhRandomAccess] = 2;
   expectUnitsRow("G16", units);
+}
+
+CATALOGUE_TEST(G17) {
+  std::vector<Unit> units = bMeshUnits(2);
+  {  // valid in version 4 (every frame a keyframe: no B mesh)
+    const std::vector<uint8_t> stream = join(units);
+    StreamDecoder decoder(stream.data(), stream.size(), "in.3dvo");
+    int frames = 0;
+    decoder.decode([&](int, const IntMesh&) { ++frames; });
+    EXPECT_EQ(frames, kFrames);
+  }
+  putU16(units[0].payload, kShVersion, 3);
+  expectUnitsRow("G17", units);
+}
+
+CATALOGUE_TEST(G18) {
+  for (uint16_t step : {uint16_t{0}, uint16_t{4097}})
+    expectUnitsRow("G18", bMeshUnits(step));
 }
 
 // ---- P mesh ----
@@ -2257,6 +2286,26 @@ CATALOGUE_TEST(C43) {
 
 CATALOGUE_TEST(C44) {
   expectCfgRow("C44", "PMeshMode : d3dmc\nKeyframeCount : 3\nKeyframeLambda : -1\n");
+}
+
+CATALOGUE_TEST(C52) {
+  for (const char* key : {"KeyframeCount : 3", "KeyframeMaxError : 4", "KeyframeLambda : -1"})
+    expectCfgRow("C52", std::string("PMeshMode : d3dmc\nBMeshGap : 4\n") + key + "\n");
+}
+
+CATALOGUE_TEST(C53) {
+  for (const char* mode : {"afxic", "intra"})
+    expectCfgRow("C53", std::string("PMeshMode : ") + mode + "\nBMeshGap : 4\n");
+}
+
+CATALOGUE_TEST(C55) {
+  for (const char* cfg :
+       {"Quality : -1\n", "KeyframeCount : 3\n", "PMeshMode : afxic\n", "GridBits : 10\n"})
+    expectCfgRow("C55", std::string(cfg) + "BMeshQuantStep : 16\n");
+}
+
+CATALOGUE_TEST(C54) {
+  expectCfgRow("C54", "PMeshMode : d3dmc\nBMeshGap : 1\n");
 }
 
 CATALOGUE_TEST(C45) {

@@ -48,9 +48,12 @@ class CodedUnits : public GomUnits {
     mesh = decodeIMesh(im.im_draco_payload, gridBits_, "test I mesh");
     where = "test I mesh";
   }
+  const std::vector<uint32_t>& askedPMeshes() const { return asked_; }
+
   PMeshPayload pMesh(uint32_t k) override {
     const PMeshUnit pm = parse<PMeshUnit>(next(UnitType::kPMesh).payload);
     EXPECT_EQ(pm.pm_frame, header_.gh_first_frame + k);
+    asked_.push_back(k);
     pMeshes_.push_back(pm.pm_cabac_payload);
     return {pMeshes_.back().data(), pMeshes_.back().size(), "test P mesh", nullptr};
   }
@@ -69,6 +72,7 @@ class CodedUnits : public GomUnits {
   size_t taken_ = 0;
   GomHeader header_;
   std::vector<std::vector<uint8_t>> pMeshes_;
+  std::vector<uint32_t> asked_;
 };
 
 // Replays kept P-mesh payloads (the texture pass's KeptUnits, for P-mesh GOMs).
@@ -96,6 +100,7 @@ struct Case {
   int keyframeCount;
   int keyframeMaxError;
   bool continueGoms;  // every GOM after the first continues the previous one
+  int bMeshGap = 0;
 };
 
 // Codes `frames` GOM by GOM with encodeGomGeometry (continuing GOMs as asked), then decodes
@@ -109,6 +114,7 @@ void checkCase(const Case& c, const std::vector<Mesh>& frames) {
   params.motionQuantStep = c.quantStep;
   params.keyframeCount = c.keyframeCount;
   params.keyframeMaxError = c.keyframeMaxError;
+  params.bMeshGap = c.bMeshGap;
   const Grid grid = gridForSequence(frames, params.gridBits);
   const std::function<std::string(size_t)> name = [](size_t k) {
     return "frame " + std::to_string(k);
@@ -117,7 +123,7 @@ void checkCase(const Case& c, const std::vector<Mesh>& frames) {
   GomDecoder decoder, replay;
   decoder.keepFirstReference(true);
   GomContinuation continuation;
-  size_t gomsContinued = 0, keyframesInterpolated = 0;
+  size_t gomsContinued = 0, keyframesInterpolated = 0, bMeshGoms = 0;
   for (size_t first = 0; first < frames.size(); first += static_cast<size_t>(c.gomSize)) {
     const size_t count = std::min(frames.size() - first, static_cast<size_t>(c.gomSize));
     const std::vector<Mesh> gomFrames(frames.begin() + static_cast<std::ptrdiff_t>(first),
@@ -131,6 +137,7 @@ void checkCase(const Case& c, const std::vector<Mesh>& frames) {
     const GomHeader& gh = units.header();
     gomsContinued += gh.gh_random_access == 0 && c.mode != PMeshMode::kIntra;
     keyframesInterpolated += count - gh.keyframes.size();
+    bMeshGoms += hasBMeshes(gh);
     decoder.start(gh, params.gridBits, "test GOM");
     for (size_t k = 0; k < count; ++k) {
       ASSERT_FALSE(decoder.done());
@@ -155,6 +162,9 @@ void checkCase(const Case& c, const std::vector<Mesh>& frames) {
   if (c.keyframeCount > 0 || c.keyframeMaxError > 0) {
     EXPECT_GT(keyframesInterpolated, 0u);
   }
+  if (c.bMeshGap > 0) {
+    EXPECT_GT(bMeshGoms, 0u);
+  }
 }
 
 const Case kCases[] = {
@@ -165,7 +175,52 @@ const Case kCases[] = {
     {"d3dmc continued keyframes", PMeshMode::kD3dmc, 5, 1, 3, 0, true},
     {"afxic", PMeshMode::kAfxic, 4, 1, 0, 0, false},
     {"afxic max error continued", PMeshMode::kAfxic, 6, 4, 0, 200, true},
+    {"d3dmc B meshes", PMeshMode::kD3dmc, 12, 2, 0, 0, false, 4},
+    {"d3dmc B meshes continued", PMeshMode::kD3dmc, 5, 1, 0, 0, true, 3},
+    {"d3dmc B meshes, one gap", PMeshMode::kD3dmc, 12, 4, 0, 0, false, 11},
 };
+
+// The B meshes between decoded frames l < r in the order of docs/bitstream.md ("B meshes").
+void bMeshOrder(int l, int r, std::vector<uint32_t>& out) {
+  if (r - l < 2) return;
+  const int m = l + (r - l) / 2;
+  out.push_back(static_cast<uint32_t>(m));
+  bMeshOrder(l, m, out);
+  bMeshOrder(m, r, out);
+}
+
+// A GOM of 41 frames with BMeshGap 32: keyframes 0, 32 and 40. The decoder asks for the B meshes
+// in the documented order, holds no more than log2(32) + 1 frames waiting, and makes the
+// encoder's frames.
+TEST(GomDecoder, BMeshesComeInHalvingOrderWithFewFramesWaiting) {
+  const std::vector<Mesh> frames = test::wobblingSphere(1, 41);
+  EncoderParams params;
+  params.gridBits = 11;
+  params.motionQuantStep = 2;
+  params.bMeshGap = 32;
+  const Grid grid = gridForSequence(frames, params.gridBits);
+  const GomGeometry coded = encodeGomGeometry(
+      params, grid, 0, frames, [](size_t k) { return std::to_string(k); }, nullptr, nullptr);
+  CodedUnits units(coded, params.gridBits);
+  ASSERT_TRUE(hasBMeshes(units.header()));
+  EXPECT_EQ(units.header().gh_bmesh_quant_step, 4);
+  EXPECT_EQ(units.header().keyframes, (std::vector<uint16_t>{0, 32, 40}));
+  GomDecoder decoder;
+  decoder.start(units.header(), params.gridBits, "test GOM");
+  size_t mostWaiting = 0;
+  for (size_t k = 0; k < frames.size(); ++k) {
+    ASSERT_EQ(decoder.next(units), coded.frames[k].positions) << k;
+    mostWaiting = std::max(mostWaiting, decoder.waitingFrames());
+  }
+  EXPECT_TRUE(units.allTaken());
+  std::vector<uint32_t> expected = {32};
+  bMeshOrder(0, 32, expected);
+  expected.push_back(40);
+  bMeshOrder(32, 40, expected);
+  EXPECT_EQ(units.askedPMeshes(), expected);
+  EXPECT_LE(mostWaiting, 6u);
+  EXPECT_GE(mostWaiting, 4u);  // the halving path really is held
+}
 
 TEST(GomDecoder, MakesTheEncodersFramesFromItsUnitsInTheirOrder) {
   const std::vector<Mesh> sphere = test::wobblingSphere(2, 12);

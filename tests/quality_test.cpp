@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/core/error.h"
 #include "common/core/grid.h"
 #include "encoder/encoder.h"
 #include "encoder/quality.h"
@@ -197,6 +198,55 @@ TEST(Quality, KeysTheUserSetAreKept) {
   r = resolve(frames, 50, {"GridFit"}, p);
   EXPECT_EQ(r.params.gridFit, GridFit::kSequence);
   EXPECT_NE(r.report.find("chosen by coding"), std::string::npos);
+}
+
+// B meshes (BMeshGap 8) with d3dmc unless the user chose the keyframes or codes by hand; with
+// afxic, or BMeshGap 0, keyframes by rate and distortion. The trial codes the B meshes too: the
+// same choice whether BMeshGap 8 is Quality's or the user's.
+TEST(Quality, CodesBMeshesUnlessTheKeyframesAreChosen) {
+  const std::vector<Mesh> frames = walkingBlob(9, 0.05);
+  Resolved r = resolve(frames, 50);
+  EXPECT_EQ(r.params.bMeshGap, kQualityBMeshGap);
+  EXPECT_EQ(r.params.keyframeLambda, 0);
+  EncoderParams p;
+  p.bMeshGap = kQualityBMeshGap;
+  const Resolved given = resolve(frames, 50, {"BMeshGap"}, p);
+  EXPECT_EQ(given.report, r.report);
+  p = {};
+  p.keyframeCount = 3;
+  r = resolve(frames, 50, {"KeyframeCount"}, p);
+  EXPECT_EQ(r.params.bMeshGap, 0);
+  EXPECT_EQ(r.params.keyframeLambda, 0);
+  p = {};
+  r = resolve(frames, 50, {"BMeshGap"}, p);  // BMeshGap 0 set: the keyframe choice instead
+  EXPECT_EQ(r.params.bMeshGap, 0);
+  EXPECT_EQ(r.params.keyframeLambda, -1);
+  p = {};
+  p.pmeshMode = PMeshMode::kAfxic;
+  r = resolve(frames, 50, {"PMeshMode"}, p);
+  EXPECT_EQ(r.params.bMeshGap, 0);
+  EXPECT_EQ(r.params.keyframeLambda, -1);
+  p = {};
+  p.gridBits = 12;
+  r = resolve(frames, 50, {"GridBits"}, p);  // by hand
+  EXPECT_EQ(r.params.bMeshGap, 0);
+}
+
+// BMeshQuantStep alone is for Quality's B meshes; where none are coded it is an error (C55),
+// not a key without effect.
+TEST(Quality, BMeshQuantStepWithoutBMeshesIsRefused) {
+  Encoder quality;
+  quality.set("BMeshQuantStep", "16");
+  EXPECT_NO_THROW(quality.params());
+  Encoder manual;
+  manual.set("BMeshQuantStep", "16");
+  manual.set("Quality", "-1");
+  EXPECT_THROW(manual.params(), Error);
+  Encoder gap;
+  gap.set("BMeshQuantStep", "16");
+  gap.set("Quality", "-1");
+  gap.set("BMeshGap", "4");
+  EXPECT_NO_THROW(gap.params());
 }
 
 TEST(Quality, IsDeterministic) {
