@@ -199,11 +199,13 @@ int main(int argc, char** argv) {
         keyframes += k;
         perGom += (perGom.empty() ? "" : " ") + std::to_string(k);
       }
+      // With Quality's choices: its B meshes, and the quantiser their step derives from.
+      const EncoderParams& used = encoder.codedParams();
       std::string others;
       if (keyframes < source.count)
-        others = params.bMeshGap > 0 && params.pmeshMode == PMeshMode::kD3dmc
-                     ? "; the others are B meshes (BMeshGap " + std::to_string(params.bMeshGap) +
-                           ", BMeshQuantStep " + std::to_string(params.effectiveBMeshQuantStep()) +
+        others = used.bMeshGap > 0 && used.pmeshMode == PMeshMode::kD3dmc
+                     ? "; the others are B meshes (BMeshGap " + std::to_string(used.bMeshGap) +
+                           ", BMeshQuantStep " + std::to_string(used.effectiveBMeshQuantStep()) +
                            ")"
                      : "; the others are interpolated";
       std::printf("keyframes           : %zu of %zu frames (per GOM: %s)%s\n", keyframes,

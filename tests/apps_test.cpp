@@ -203,6 +203,19 @@ TEST_F(AppsTest, TheEffectiveConfigurationReproducesTheRun) {
   ASSERT_EQ(qualityLine(first.out).size(), 1u) << first.out;
   EXPECT_EQ(qualityLine(second.out), qualityLine(first.out));
   EXPECT_EQ(test::readBytes(dir_.file("b.3dvo")), test::readBytes(dir_.file("a.3dvo")));
+  // The default Quality codes B meshes; the summary says so, with the step it derived from the
+  // quantiser Quality chose (2 x MotionQuantStep), not from the keys' defaults.
+  const std::vector<std::string> quality = test::linesStartingWith(first.out, "quality ");
+  ASSERT_EQ(quality.size(), 1u) << first.out;
+  const size_t at = quality[0].find("MotionQuantStep ");
+  ASSERT_NE(at, std::string::npos) << quality[0];
+  const int step = std::stoi(quality[0].substr(at + 16));
+  const std::vector<std::string> keyframes = test::linesStartingWith(first.out, "keyframes ");
+  ASSERT_EQ(keyframes.size(), 1u) << first.out;
+  EXPECT_NE(keyframes[0].find("the others are B meshes (BMeshGap 8, BMeshQuantStep " +
+                              std::to_string(2 * step) + ")"),
+            std::string::npos)
+      << keyframes[0];
   // The summary gives the frame rate used, exactly (FrameRate is printed only when set).
   EXPECT_EQ(test::linesStartingWith(first.out, "frame rate "),
             std::vector<std::string>{"frame rate          : 25"});
