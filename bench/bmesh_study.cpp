@@ -14,6 +14,12 @@
 //              interpolateFrame(l, r, m) (the decoder's keyframe interpolation), then (l, m) and
 //              (m, r) likewise, down to adjacent frames (hierarchical B), with F times the
 //              quantiser (and its automatic Lambda) in the B meshes.
+// With BMESH_STUDY_CASCADE set, the variants are instead the cascades of docs/prediction.md
+// ("B meshes"), all with G = 8:
+//   B8x<F>c<c>  the B quantiser F times the P quantiser at the first level of the halving, times
+//               c at each level below;
+//   B8x<F>L<L>  the B quantiser F times the P quantiser at every level, the Lambda of the octree
+//               clustering times L at each level below the first (what BMeshLambdaGrowth does).
 // Output, one CSV line per sequence, variant and MotionQuantStep: P-mesh payload bytes and the
 // squared error against the quantised input (grid units) over every frame but the I meshes.
 // bench/bmesh_study.py turns it into BD-rates against P.
@@ -21,6 +27,7 @@
 //   build/bin/bmesh_study > /tmp/bmesh.csv && /usr/bin/python3 bench/bmesh_study.py /tmp/bmesh.csv
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -75,26 +82,30 @@ struct GomCoder {
   std::vector<std::vector<Vec3i>> recon;
   Tally tally;
 
-  void code(size_t k, const std::vector<Vec3i>& reference, int step) {
+  double lambdaCascade = 1;  // the B meshes' Lambda factor per level below the first
+  void code(size_t k, const std::vector<Vec3i>& reference, int step, double lambdaFactor = 1) {
     PMeshParams p;
     p.gridBits = gridBits;
     p.maxDepth = gridBits;
     p.quantStep = step;
-    PMeshEncoding e = encodePMesh(topology, reference, targets[k], p, lambdaFor(step));
+    PMeshEncoding e =
+        encodePMesh(topology, reference, targets[k], p, lambdaFactor * lambdaFor(step));
     tally.bytes += double(e.payload.size());
     tally.sse += squared(e.reconstruction, targets[k]);
     tally.values += 3.0 * double(targets[k].size());
     recon[k] = std::move(e.reconstruction);
   }
-  void between(int a, int b, int step) {
+  // `step` at the first level (the middle of two keyframes), times `cascade` per level below.
+  void between(int a, int b, double step, double cascade, double lambdaFactor = 1) {
     if (b - a < 2) return;
     const int m = (a + b) / 2;
-    code(size_t(m), interpolateFrame(recon[size_t(a)], recon[size_t(b)], a, b, m), step);
-    between(a, m, step);
-    between(m, b, step);
+    code(size_t(m), interpolateFrame(recon[size_t(a)], recon[size_t(b)], a, b, m),
+         std::max(1, int(std::lround(step))), lambdaFactor);
+    between(a, m, step * cascade, cascade, lambdaFactor * lambdaCascade);
+    between(m, b, step * cascade, cascade, lambdaFactor * lambdaCascade);
   }
   // anchorGap 1: today's P chain.
-  void run(int anchorGap, int step, int bStep) {
+  void run(int anchorGap, int step, double bStep, double cascade) {
     const int n = int(targets.size());
     recon.assign(targets.size(), {});
     recon[0] = targets[0];
@@ -102,7 +113,7 @@ struct GomCoder {
     while (a < n - 1) {
       const int b = std::min(a + anchorGap, n - 1);
       code(size_t(b), recon[size_t(a)], step);
-      between(a, b, bStep);
+      between(a, b, bStep, cascade);
       a = b;
     }
   }
@@ -117,12 +128,28 @@ int main() {
     std::string name;
     int gap;
     double bFactor;
+    double cascade = 1;        // the B quantiser's factor per level below the first
+    double lambdaCascade = 1;  // the B meshes' Lambda factor per level below the first
   };
   std::vector<Variant> variants = {{"P", 1, 1}};
-  for (int gap : {2, 4, 8, 16})
-    for (double f : {1.0, 1.5, 2.0, 3.0})
-      variants.push_back(
-          {"B" + std::to_string(gap) + "x" + std::to_string(f).substr(0, 3), gap, f});
+  if (std::getenv("BMESH_STUDY_CASCADE")) {
+    // The quantiser cascade: B8 with the first level at factor F, each level below c times more.
+    for (double f : {1.0, 1.5, 2.0})
+      for (double c : {1.0, 1.25, 1.5, 2.0})
+        variants.push_back(
+            {"B8x" + std::to_string(f).substr(0, 3) + "c" + std::to_string(c).substr(0, 4), 8, f,
+             c});
+    for (double f : {1.5, 2.0, 3.0})
+      for (double l : {1.5, 2.0, 3.0})
+        variants.push_back(
+            {"B8x" + std::to_string(f).substr(0, 3) + "L" + std::to_string(l).substr(0, 3), 8, f,
+             1.0, l});
+  } else {
+    for (int gap : {2, 4, 8, 16})
+      for (double f : {1.0, 1.5, 2.0, 3.0})
+        variants.push_back(
+            {"B" + std::to_string(gap) + "x" + std::to_string(f).substr(0, 3), gap, f});
+  }
   std::printf("sequence,variant,step,bytes,sse,values\n");
   for (const Sequence& s : kSequences) {
     const std::string pattern = data + s.pattern;
@@ -151,8 +178,8 @@ int main() {
       }
       for (size_t v = 0; v < variants.size(); ++v)
         for (size_t i = 0; i < std::size(steps); ++i) {
-          GomCoder coder{topology, targets, grid.bits, {}, {}};
-          coder.run(variants[v].gap, steps[i], int(std::lround(steps[i] * variants[v].bFactor)));
+          GomCoder coder{topology, targets, grid.bits, {}, {}, variants[v].lambdaCascade};
+          coder.run(variants[v].gap, steps[i], steps[i] * variants[v].bFactor, variants[v].cascade);
           Tally& t = totals[v * std::size(steps) + i];
           t.bytes += coder.tally.bytes;
           t.sse += coder.tally.sse;

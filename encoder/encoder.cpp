@@ -79,10 +79,12 @@ const EncoderParams& Encoder::params() {
   EncoderParams p = s.params;
   p.validateCoding();
   const IsSetFunction isSet = [&s](const std::string& key) { return s.table.wasSet(key); };
-  check(!isSet("BMeshQuantStep") || p.bMeshGap > 0 || qualityCodesBMeshes(p, isSet),
-        "BMeshQuantStep is set, but no B meshes are coded: set BMeshGap (2 or more), or let "
-        "Quality code them (PMeshMode d3dmc, no keyframe key, GridBits and MotionQuantStep "
-        "not set)");
+  for (const char* key : {"BMeshQuantStep", "BMeshLambdaGrowth"})
+    check(!isSet(key) || p.bMeshGap > 0 || qualityCodesBMeshes(p, isSet),
+          std::string(key) +
+              " is set, but no B meshes are coded: set BMeshGap (2 or more), or let Quality "
+              "code them (PMeshMode d3dmc, no keyframe key, GridBits and MotionQuantStep not "
+              "set)");
   s.dataset.reset();
   if (!p.dataset.empty()) {
     s.dataset = readDataset(p.dataset);

@@ -1,6 +1,7 @@
 #include "encoder/encoder_params.h"
 
 #include <algorithm>
+#include <cmath>
 #include <thread>
 
 #include "common/core/error.h"
@@ -117,6 +118,10 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.add("BMeshQuantStep", bMeshQuantStep, -1, kMaxMotionQuantStep,
         "quantiser step of the B meshes' motion residuals in grid units; -1 = automatic: 2 * "
         "MotionQuantStep");
+  t.add("BMeshLambdaGrowth", bMeshLambdaGrowth, 1, 16,
+        "the B meshes' Lambda grows by this factor per level of the halving below the first "
+        "(the middle frame between two keyframes has the B meshes' Lambda, the middles of "
+        "its halves this times more, ...); 1 = the same Lambda at every level");
   t.section("Speed");
   t.add("Threads", threads, 0, 256,
         "GOMs encoded in parallel (0 = hardware concurrency); the stream, the MD5 lines and "
@@ -181,6 +186,10 @@ double EncoderParams::lambdaFor(int quantStep) const {
 int EncoderParams::effectiveBMeshQuantStep() const {
   if (bMeshQuantStep > 0) return bMeshQuantStep;
   return std::min(kAutoBMeshQuantFactor * motionQuantStep, int{kMaxMotionQuantStep});
+}
+
+double EncoderParams::bMeshLambda(int level) const {
+  return lambdaFor(effectiveBMeshQuantStep()) * std::pow(bMeshLambdaGrowth, level - 1);
 }
 
 double EncoderParams::effectiveKeyframeLambda() const {

@@ -60,7 +60,8 @@ struct EncoderParams {
   // B meshes (d3dmc): > 0: keyframes every bMeshGap frames of a GOM (and its last frame), the
   // frames between coded as B meshes; 0 = off
   int bMeshGap = 0;
-  int bMeshQuantStep = -1;  // the B meshes' quantiser; -1: automatic (effectiveBMeshQuantStep)
+  int bMeshQuantStep = -1;       // the B meshes' quantiser; -1: automatic (effectiveBMeshQuantStep)
+  double bMeshLambdaGrowth = 2;  // a B mesh's Lambda times this per level below the first
   // Speed
   int threads = 1;  // GOMs encoded in parallel; 0 = hardware concurrency (see threadCount())
   // Textures (coded when Dataset is set)
@@ -86,6 +87,11 @@ struct EncoderParams {
   // kMaxMotionQuantStep): docs/prediction.md, "B meshes", says how it was chosen.
   static constexpr int kAutoBMeshQuantFactor = 2;
   int effectiveBMeshQuantStep() const;
+  // The Lambda of a B mesh at `level` of the halving of its keyframe interval (1: the middle
+  // frame, 2: the middles of the halves, ...): lambdaFor(effectiveBMeshQuantStep()) times
+  // BMeshLambdaGrowth^(level - 1). Deeper B meshes are references of fewer frames (the last
+  // level of none), so their motion is worth fewer bits: docs/prediction.md, "B meshes".
+  double bMeshLambda(int level) const;
   // The lambda of the rate-distortion keyframe choice (squared grid units per bit): 0 when
   // KeyframeLambda is 0 (off); KeyframeLambda when > 0; automatic (-1):
   // kAutoKeyframeLambdaFactor * MotionQuantStep^2 (docs/options.md says how it was chosen).

@@ -147,7 +147,7 @@ class GomCoder : public GomUnits {
     target_.resize(i.inputIndex.size());
     for (size_t j = 0; j < target_.size(); ++j)
       target_[j] = inputs_[k].positions[i.inputIndex[j]];
-    PMeshEncoding p = codePMesh(decoder_.reference(), target_, decoder_.params());
+    PMeshEncoding p = codePMesh(decoder_.reference(), target_, decoder_.params(), lambdaOf(k));
     PMeshUnit pm;
     pm.pm_frame = static_cast<uint32_t>(first_ + k);
     pm.pm_cabac_payload = std::move(p.payload);
@@ -161,13 +161,21 @@ class GomCoder : public GomUnits {
  private:
   std::string name(size_t k) const { return frameName_(first_ + k); }
 
+  // The Lambda of GOM frame k's P mesh: the GOM's, or, for a B mesh, its level's.
+  double lambdaOf(size_t k) const {
+    const std::vector<uint16_t>& keys = bMeshKeyframes_;
+    const auto b = std::upper_bound(keys.begin(), keys.end(), k);
+    if (keys.empty() || b == keys.begin() || b == keys.end() || b[-1] == k)
+      return params_.lambdaFor(pmParams_.quantStep);
+    return params_.bMeshLambda(bMeshLevel(b[-1], *b, static_cast<int>(k)));
+  }
+
   // The P mesh of `target` predicted from `previous` (both in the GOM's vertex order).
   // `params`: the GOM's (pmParams_), or a B mesh's.
   PMeshEncoding codePMesh(const std::vector<Vec3i>& previous, const std::vector<Vec3i>& target,
-                          const PMeshParams& params) {
+                          const PMeshParams& params, double lambda) {
     return params_.pmeshMode == PMeshMode::kD3dmc
-               ? encodePMesh(decoder_.topology(), previous, target, params,
-                             params_.lambdaFor(params.quantStep))
+               ? encodePMesh(decoder_.topology(), previous, target, params, lambda)
                : encodeTemporalDpcm(previous, target, params);
   }
 
@@ -176,6 +184,7 @@ class GomCoder : public GomUnits {
   // copied into the frames, else moved (the GOM is not coded again).
   void codeFrames(const GomHeader& gh, bool continues, bool keepInputs) {
     out_.units.push_back({UnitType::kGomHeader, serialise(gh)});
+    bMeshKeyframes_ = hasBMeshes(gh) ? gh.keyframes : std::vector<uint16_t>();
     out_.keyframes = gh.keyframes.empty() ? inputs_.size() : gh.keyframes.size();
     // A continuing GOM starts from the previous GOM's connectivity and last frame.
     GomReference continued;
@@ -261,7 +270,8 @@ class GomCoder : public GomUnits {
     const auto cost = [&](int a, int b) {
       const std::vector<Vec3i>& ka = all.frames[a].positions;
       if (b == a + 1) return squared(all.frames[b].positions, target[b]) + lambda * allBits[b];
-      const PMeshEncoding p = codePMesh(ka, target[b], pmParams_);
+      const PMeshEncoding p =
+          codePMesh(ka, target[b], pmParams_, params_.lambdaFor(pmParams_.quantStep));
       PMeshUnit pm;
       pm.pm_frame = static_cast<uint32_t>(first_ + b);
       pm.pm_cabac_payload = p.payload;
@@ -470,7 +480,8 @@ class GomCoder : public GomUnits {
   // GOM loop hands that frame out (with B meshes, a few frames later: at most about log2 of
   // BMeshGap + 1 are waiting).
   std::map<size_t, std::vector<Vec3i>> pending_;
-  std::vector<double> pMeshBits_;  // per GOM frame: its P-mesh unit's bits (0: none)
+  std::vector<double> pMeshBits_;         // per GOM frame: its P-mesh unit's bits (0: none)
+  std::vector<uint16_t> bMeshKeyframes_;  // with B meshes, the GOM's keyframes; else empty
   // codeRdKeyframes codes a GOM twice: the I mesh's units and encoding from the first time.
   bool keepIMesh_ = false;
   std::vector<GomGeometry::Unit> iMeshUnits_;

@@ -13,8 +13,9 @@
 // (D: squared distance of the decoded vertices to the input's, R: bits; λ = (ln 2 / 6)·Δ², the
 // slope of an entropy-coded uniform quantiser of step Δ). With d3dmc it then turns on B meshes
 // (BMeshGap kQualityBMeshGap; else, or with BMeshGap 0, keyframes by rate and distortion). Keys
-// the user sets are kept (GridFit, Lambda, KeyframeLambda, BMeshGap, BMeshQuantStep); setting
-// GridBits or MotionQuantStep means coding by hand: Quality then changes nothing.
+// the user sets are kept (GridFit, Lambda, KeyframeLambda, BMeshGap, BMeshQuantStep,
+// BMeshLambdaGrowth); setting GridBits or MotionQuantStep means coding by hand: Quality then
+// changes nothing.
 #pragma once
 
 #include <functional>

@@ -213,7 +213,7 @@ TEST_F(AppsTest, TheEffectiveConfigurationReproducesTheRun) {
   const std::vector<std::string> keyframes = test::linesStartingWith(first.out, "keyframes ");
   ASSERT_EQ(keyframes.size(), 1u) << first.out;
   EXPECT_NE(keyframes[0].find("the others are B meshes (BMeshGap 8, BMeshQuantStep " +
-                              std::to_string(2 * step) + ")"),
+                              std::to_string(2 * step) + ", BMeshLambdaGrowth 2)"),
             std::string::npos)
       << keyframes[0];
   // The summary gives the frame rate used, exactly (FrameRate is printed only when set).

@@ -2299,9 +2299,10 @@ CATALOGUE_TEST(C53) {
 }
 
 CATALOGUE_TEST(C55) {
-  for (const char* cfg :
-       {"Quality : -1\n", "KeyframeCount : 3\n", "PMeshMode : afxic\n", "GridBits : 10\n"})
-    expectCfgRow("C55", std::string(cfg) + "BMeshQuantStep : 16\n");
+  for (const char* key : {"BMeshQuantStep : 16\n", "BMeshLambdaGrowth : 3\n"})
+    for (const char* cfg :
+         {"Quality : -1\n", "KeyframeCount : 3\n", "PMeshMode : afxic\n", "GridBits : 10\n"})
+      expectCfgRow("C55", std::string(cfg) + key);
 }
 
 CATALOGUE_TEST(C54) {

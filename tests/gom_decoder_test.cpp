@@ -6,11 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "bitstream/syntax.h"
 #include "common/core/error.h"
+#include "common/geometry/keyframes.h"
 #include "decoder/gom_decoder.h"
 #include "decoder/imesh_decoder.h"
 #include "encoder/gom_coder.h"
@@ -189,18 +191,28 @@ void bMeshOrder(int l, int r, std::vector<uint32_t>& out) {
   bMeshOrder(m, r, out);
 }
 
+EncoderParams bMeshParams(int gridBits, int motionQuantStep, int bMeshGap) {
+  EncoderParams params;
+  params.gridBits = gridBits;
+  params.motionQuantStep = motionQuantStep;
+  params.bMeshGap = bMeshGap;
+  return params;
+}
+
+// `frames` coded as one GOM on the grid over them.
+GomGeometry codeOneGom(const EncoderParams& params, const std::vector<Mesh>& frames) {
+  return encodeGomGeometry(
+      params, gridForSequence(frames, params.gridBits), 0, frames,
+      [](size_t k) { return std::to_string(k); }, nullptr, nullptr);
+}
+
 // A GOM of 41 frames with BMeshGap 32: keyframes 0, 32 and 40. The decoder asks for the B meshes
 // in the documented order, holds no more than log2(32) + 1 frames waiting, and makes the
 // encoder's frames.
 TEST(GomDecoder, BMeshesComeInHalvingOrderWithFewFramesWaiting) {
   const std::vector<Mesh> frames = test::wobblingSphere(1, 41);
-  EncoderParams params;
-  params.gridBits = 11;
-  params.motionQuantStep = 2;
-  params.bMeshGap = 32;
-  const Grid grid = gridForSequence(frames, params.gridBits);
-  const GomGeometry coded = encodeGomGeometry(
-      params, grid, 0, frames, [](size_t k) { return std::to_string(k); }, nullptr, nullptr);
+  const EncoderParams params = bMeshParams(11, 2, 32);
+  const GomGeometry coded = codeOneGom(params, frames);
   CodedUnits units(coded, params.gridBits);
   ASSERT_TRUE(hasBMeshes(units.header()));
   EXPECT_EQ(units.header().gh_bmesh_quant_step, 4);
@@ -220,6 +232,55 @@ TEST(GomDecoder, BMeshesComeInHalvingOrderWithFewFramesWaiting) {
   EXPECT_EQ(units.askedPMeshes(), expected);
   EXPECT_LE(mostWaiting, 6u);
   EXPECT_GE(mostWaiting, 4u);  // the halving path really is held
+}
+
+// bMeshLevel is the depth of the halving recursion bMeshOrder walks (1 at the middle frame).
+void bMeshLevels(int l, int r, int level, std::vector<int>& out) {
+  if (r - l < 2) return;
+  const int m = l + (r - l) / 2;
+  out[static_cast<size_t>(m)] = level;
+  bMeshLevels(l, m, level + 1, out);
+  bMeshLevels(m, r, level + 1, out);
+}
+
+TEST(BMeshLevel, IsTheDepthOfTheHalving) {
+  for (int a : {0, 5})
+    for (int gap = 2; gap <= 70; ++gap) {
+      std::vector<int> levels(static_cast<size_t>(a + gap + 1), 0);
+      bMeshLevels(a, a + gap, 1, levels);
+      for (int f = a + 1; f < a + gap; ++f)
+        ASSERT_EQ(bMeshLevel(a, a + gap, f), levels[static_cast<size_t>(f)]) << a << " " << gap;
+    }
+  EXPECT_EQ(bMeshLevel(0, 8, 4), 1);
+  EXPECT_EQ(bMeshLevel(0, 8, 6), 2);
+  EXPECT_EQ(bMeshLevel(0, 8, 7), 3);
+}
+
+// BMeshLambdaGrowth scales the Lambda of the B meshes below the first level only: the keyframes'
+// P meshes and the middle frame's B mesh are the same bytes with any growth, deeper B meshes
+// take fewer bytes with a larger one.
+TEST(GomCoder, BMeshLambdaGrowsPerLevelBelowTheFirst) {
+  const std::vector<Mesh> frames = test::wobblingSphere(2, 17);
+  EncoderParams params = bMeshParams(12, 2, 8);
+  std::map<uint32_t, std::vector<uint8_t>> units[2];
+  for (int i = 0; i < 2; ++i) {
+    params.bMeshLambdaGrowth = i == 0 ? 1 : 8;
+    const GomGeometry coded = codeOneGom(params, frames);
+    for (const GomGeometry::Unit& u : coded.units)
+      if (u.type == UnitType::kPMesh) {
+        const PMeshUnit pm = parse<PMeshUnit>(u.payload);
+        units[i][pm.pm_frame] = pm.pm_cabac_payload;
+      }
+  }
+  ASSERT_EQ(units[0].size(), 16u);
+  ASSERT_EQ(units[1].size(), 16u);
+  for (uint32_t k : {8u, 16u, 4u, 12u})
+    EXPECT_EQ(units[0][k], units[1][k]) << "frame " << k;
+  size_t deep[2] = {0, 0};
+  for (int i = 0; i < 2; ++i)
+    for (uint32_t k : {1u, 3u, 5u, 7u, 9u, 11u, 13u, 15u})
+      deep[i] += units[i][k].size();
+  EXPECT_LT(deep[1], deep[0]);
 }
 
 TEST(GomDecoder, MakesTheEncodersFramesFromItsUnitsInTheirOrder) {

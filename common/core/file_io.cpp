@@ -708,6 +708,10 @@ void OutputFolder::removePrevious() {
          ", could not all be removed (" + ec.message() + ")");
 }
 
+void CommittableOutput::commit() {
+  commitAll({this});
+}
+
 void commitAll(const std::vector<CommittableOutput*>& outputs) {
   size_t done = 0;
   try {

@@ -79,6 +79,7 @@ class CommittableOutput {
   virtual void keepNew() = 0;         // after putInPlace, the registry's lock held by the caller
   virtual void removePrevious() = 0;  // after keepNew: the previous files removed
   virtual void discard() = 0;         // not in place: the staged files removed (idempotent)
+  void commit();                      // this output alone: commitAll({this})
 };
 
 // Commits `outputs` as one: every one in place, or (an Error) none, each as it was. A run with
@@ -111,7 +112,6 @@ class StagedFiles : public CommittableOutput {
   // name, for a writer that opens files by name (FFmpeg): the caller fills and closes it before
   // commit(). A device or FIFO is refused here (such a writer seeks).
   std::string stage(const std::string& path);
-  void commit() { commitAll({this}); }
   void putInPlace() override;
   void takeBack() override;
   void keepNew() override;
@@ -183,7 +183,6 @@ class OutputFolder : public CommittableOutput {
   void write(const std::string& path, const std::string& text) {
     write(path, text.data(), text.size());
   }
-  void commit() { commitAll({this}); }
   void putInPlace() override;
   void takeBack() override;
   void keepNew() override;

@@ -16,6 +16,14 @@ void interpolateFrame(const std::vector<Vec3i>& ka, const std::vector<Vec3i>& kb
           static_cast<int32_t>(ka[v][c] + roundDiv((int64_t{kb[v][c]} - ka[v][c]) * t, span));
 }
 
+int bMeshLevel(int a, int b, int f) {
+  for (int level = 1;; ++level) {
+    const int m = a + (b - a) / 2;
+    if (m == f || b - a < 2) return level;  // (the latter only for f outside a .. b)
+    (f < m ? b : a) = m;
+  }
+}
+
 std::vector<Vec3i> interpolateFrame(const std::vector<Vec3i>& ka, const std::vector<Vec3i>& kb,
                                     int a, int b, int f) {
   std::vector<Vec3i> out;

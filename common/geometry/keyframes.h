@@ -17,4 +17,9 @@ std::vector<Vec3i> interpolateFrame(const std::vector<Vec3i>& ka, const std::vec
 void interpolateFrame(const std::vector<Vec3i>& ka, const std::vector<Vec3i>& kb, int a, int b,
                       int f, std::vector<Vec3i>& out);
 
+// B meshes (docs/bitstream.md, "B meshes"): the frames a < f < b between two keyframes are
+// coded in the preorder of the halving of a .. b, frame m = a + (b - a) / 2 first. The level
+// of frame f in that halving: 1 for m, 2 for the middles of a .. m and m .. b, and so on.
+int bMeshLevel(int a, int b, int f);
+
 }  // namespace tdvo
