@@ -33,7 +33,8 @@ void EncoderParams::registerOptions(OptionTable& t) {
         "quantiser (GridFit object, GridBits, MotionQuantStep) that code the first frames at "
         "the least rate + distortion, then B meshes (BMeshGap 8; PMeshMode d3dmc) or, with "
         "afxic or BMeshGap 0, keyframes by rate and distortion; GridFit, Lambda, BMeshGap, "
-        "BMeshQuantStep and keyframe keys set are kept; GridBits or MotionQuantStep set = "
+        "BMeshQuantStep, BMeshLambdaGrowth and keyframe keys set are kept; GridBits or "
+        "MotionQuantStep set = "
         "coding by hand (Quality changes nothing); -1 = off (every key at its own value)");
   t.section("Geometry");
   t.add("GridBits", gridBits, 8, 20,
@@ -172,6 +173,10 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.derivedWhenUnset("BMeshGap",
                      "Quality (not coding by hand) codes B meshes, BMeshGap 8, with PMeshMode "
                      "d3dmc unless a keyframe key is set");
+  // Set where no B meshes are coded, these are an error (C55): unset, they stay unset.
+  const std::string bMeshesOnly = "used where B meshes are coded; set where none are, an error";
+  t.derivedWhenUnset("BMeshQuantStep", bMeshesOnly);
+  t.derivedWhenUnset("BMeshLambdaGrowth", bMeshesOnly);
 }
 
 double EncoderParams::effectiveLambda() const {

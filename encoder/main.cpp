@@ -202,13 +202,11 @@ int main(int argc, char** argv) {
       // With Quality's choices: its B meshes, and the quantiser their step derives from.
       const EncoderParams& used = encoder.codedParams();
       std::string others;
-      char growth[32];
-      std::snprintf(growth, sizeof growth, "%g", used.bMeshLambdaGrowth);
       if (keyframes < source.count)
         others = used.bMeshGap > 0 && used.pmeshMode == PMeshMode::kD3dmc
                      ? "; the others are B meshes (BMeshGap " + std::to_string(used.bMeshGap) +
                            ", BMeshQuantStep " + std::to_string(used.effectiveBMeshQuantStep()) +
-                           ", BMeshLambdaGrowth " + growth + ")"
+                           ", BMeshLambdaGrowth " + formatDouble(used.bMeshLambdaGrowth) + ")"
                      : "; the others are interpolated";
       std::printf("keyframes           : %zu of %zu frames (per GOM: %s)%s\n", keyframes,
                   source.count, perGom.c_str(), others.c_str());

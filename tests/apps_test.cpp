@@ -222,6 +222,31 @@ TEST_F(AppsTest, TheEffectiveConfigurationReproducesTheRun) {
   const CommandResult ntsc = encode({"--FrameRate=29.97002997002997"});
   EXPECT_EQ(test::linesStartingWith(ntsc.out, "frame rate "),
             std::vector<std::string>{"frame rate          : 29.97002997002997"});
+  // Without B meshes (coding by hand) the B-mesh keys stay unset too: set, they would be an
+  // error (C55). The growth is printed as given, every digit.
+  const auto blockOf = [&](const std::string& out) {
+    const size_t from = out.find(title);
+    const size_t to = out.find("\n\n", from);
+    return from == std::string::npos || to == std::string::npos
+               ? std::string()
+               : out.substr(from + title.size(), to + 1 - from - title.size());
+  };
+  const CommandResult byHand = test::run(
+      dir_, kEncoder,
+      {"--InputMeshPattern=in/%03d.obj", "--FirstFrame=1", "--Quality=-1", "-o", "c.3dvo"});
+  ASSERT_EQ(byHand.exitCode, 0) << byHand.err;
+  test::writeText(dir_.file("by-hand.cfg"), blockOf(byHand.out));
+  const CommandResult again = test::run(dir_, kEncoder, {"-c", "by-hand.cfg", "-o", "d.3dvo"});
+  ASSERT_EQ(again.exitCode, 0) << again.err;
+  EXPECT_EQ(test::readBytes(dir_.file("d.3dvo")), test::readBytes(dir_.file("c.3dvo")));
+  const CommandResult growth = test::run(dir_, kEncoder,
+                                         {"--InputMeshPattern=in/%03d.obj", "--FirstFrame=1",
+                                          "--BMeshLambdaGrowth=1.23456789", "-o", "e.3dvo"});
+  ASSERT_EQ(growth.exitCode, 0) << growth.err;
+  EXPECT_NE(growth.out.find(", BMeshLambdaGrowth 1.23456789)"), std::string::npos) << growth.out;
+  EXPECT_NE(blockOf(growth.out).find("\nBMeshLambdaGrowth        : 1.23456789\n"),
+            std::string::npos)
+      << growth.out;
 }
 
 TEST_F(AppsTest, PMeshesAndGzipInput) {
