@@ -45,6 +45,8 @@ enum class PMeshMode : uint8_t {
 };
 
 constexpr uint16_t kMaxCameras = 64;
+// A camera's image size (cam_width, cam_height), pixels.
+constexpr uint16_t kMinImageSize = 2;
 constexpr uint16_t kMaxImageSize = 16384;
 constexpr uint16_t kMaxCameraNameBytes = 255;
 constexpr uint16_t kMaxDescriptionBytes = 4096;
@@ -110,8 +112,8 @@ struct CameraParameters {
 template <class Io>
 void transfer(Io& io, CameraParameters& c) {
   transferText(io, "cam_name_length", "cam_name", c.cam_name, kMaxCameraNameBytes, true);
-  io.u16("cam_width", c.cam_width, 2, kMaxImageSize);
-  io.u16("cam_height", c.cam_height, 2, kMaxImageSize);
+  io.u16("cam_width", c.cam_width, kMinImageSize, kMaxImageSize);
+  io.u16("cam_height", c.cam_height, kMinImageSize, kMaxImageSize);
   double* const values[] = {&c.cam_fx, &c.cam_fy, &c.cam_cx, &c.cam_cy, &c.cam_k1,
                             &c.cam_k2, &c.cam_p1, &c.cam_p2, &c.cam_k3};
   static const char* const kNames[] = {"cam_fx", "cam_fy", "cam_cx", "cam_cy", "cam_k1",

@@ -39,12 +39,14 @@ TextureBoxFinder::TextureBoxFinder(const EncoderParams& params, const Dataset& d
   check(frameCount > 0 && frameCount <= kMaxFrames, name + ": no frames to code");
   checkTextureFrames(params, dataset, static_cast<int>(frameCount));
   for (const DatasetCamera& c : dataset.cameras) {
+    // The bounds of cam_width and cam_height (bitstream/syntax.h).
+    const std::string maxSize = std::to_string(kMaxImageSize);
     check(c.camera.width <= kMaxImageSize && c.camera.height <= kMaxImageSize,
-          name + ": camera " + c.camera.name + " is larger than 16384 pixels");
-    check(c.camera.width >= 2 && c.camera.height >= 2,
+          name + ": camera " + c.camera.name + " is larger than " + maxSize + " pixels");
+    check(c.camera.width >= kMinImageSize && c.camera.height >= kMinImageSize,
           name + ": camera " + c.camera.name + " is " + std::to_string(c.camera.width) + "x" +
-              std::to_string(c.camera.height) +
-              " pixels; the stream's cameras are 2 .. 16384 pixels wide and high");
+              std::to_string(c.camera.height) + " pixels; the stream's cameras are " +
+              std::to_string(kMinImageSize) + " .. " + maxSize + " pixels wide and high");
   }
   // The texts the stream carries (the rest of the dataset's fields are numbers or paths).
   check(dataset.description.size() <= kMaxDescriptionBytes,
