@@ -426,7 +426,7 @@ void streamEncode(benchmark::State& state, const BenchSequence& s, const Conditi
 
 // The condition the default Quality (50) chooses for a sequence: the grid (fitted to the
 // object), quantiser and Lambda of resolveQuality(), found once per sequence on first use (its
-// trial codes the first frames). Its P meshes are coded as every condition's are: every frame a
+// trial codes a few windows of the frames). Its P meshes are coded as every condition's are: every frame a
 // P mesh of the one before (a keyframe subset only skips frames), closed loop.
 const Condition& qualityCondition(const BenchSequence& s) {
   static std::map<std::string, Condition> cache;

@@ -1,5 +1,6 @@
 #include "encoder/encoder.h"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <utility>
@@ -205,20 +206,30 @@ EncodedSequence Encoder::encode(const FrameSource& given, const FrameCallback& o
   std::optional<TextureBoxFinder> boxes;
   if (input) boxes.emplace(p, *input, source.count);
   const IsSetFunction isSet = [this](const std::string& key) { return s_->table.wasSet(key); };
-  // The first frames, which Quality's trial codes, kept from the bounds pass for the trial: like
-  // every frame they are read twice (bounds, encode), not a third time for the trial.
-  std::vector<Mesh> kept(qualityTrialFrames(p, source.count, isSet));
+  // The frames Quality's trial codes, kept from the bounds pass for the trial: like every frame
+  // they are read twice (bounds, encode), not a third time for the trial.
+  std::vector<size_t> trialFrames;  // in frame order
+  for (const TrialWindow& w : qualityTrialWindows(p, source.count, isSet))
+    for (size_t k = w.first; k < w.first + w.count; ++k)
+      trialFrames.push_back(k);
+  std::vector<Mesh> kept(trialFrames.size());
+  auto keptIndex = [&trialFrames](size_t k) {
+    const auto at = std::lower_bound(trialFrames.begin(), trialFrames.end(), k);
+    return at != trialFrames.end() && *at == k ? static_cast<size_t>(at - trialFrames.begin())
+                                               : trialFrames.size();
+  };
   const SequenceBounds bounds =
       boundsOfSequence(source, p.threadCount(), onFramesRead, [&](size_t k, const Mesh& mesh) {
         if (boxes) boxes->add(mesh);
-        if (k < kept.size()) kept[k] = mesh;  // each k from one thread: no lock
+        const size_t i = keptIndex(k);
+        if (i < kept.size()) kept[i] = mesh;  // each k from one thread: no lock
       });
   // Quality's choices, with the keys the user set kept (encoder/quality.h).
   s_->qualityReport.clear();
   {
-    FrameSource first = source;
-    first.read = [&kept](size_t k) { return kept.at(k); };
-    p = resolveQuality(p, bounds, first, isSet, &s_->qualityReport);
+    FrameSource trial = source;
+    trial.read = [&kept, &keptIndex](size_t k) { return kept.at(keptIndex(k)); };
+    p = resolveQuality(p, bounds, trial, isSet, &s_->qualityReport);
   }
   s_->coded = p;
   kept = {};  // the encode holds no more than its GOMs

@@ -30,8 +30,9 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.add("Quality", quality, -1, 100,
         "one knob for the geometry's rate and precision, 0 (coarsest) .. 100 (finest): a "
         "target step of 1/2^(5 + Quality/10) of the object's size, reached by the grid and "
-        "quantiser (GridFit object, GridBits, MotionQuantStep) that code the first frames at "
-        "the least rate + distortion, then B meshes (BMeshGap 8; PMeshMode d3dmc) or, with "
+        "quantiser (GridFit object, GridBits, MotionQuantStep) that code up to three windows of "
+        "9 frames spread over the sequence at the least rate + distortion, then B meshes (BMeshGap "
+        "8; PMeshMode d3dmc) or, with "
         "afxic or BMeshGap 0, keyframes by rate and distortion; GridFit, Lambda, BMeshGap, "
         "BMeshQuantStep, BMeshLambdaGrowth and keyframe keys set are kept; GridBits or "
         "MotionQuantStep set = "

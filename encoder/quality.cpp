@@ -27,16 +27,21 @@ size_t randomAccessGoms(const EncoderParams& p, size_t frames) {
   return p.randomAccessRuns(p.goms(frames).size()).size();
 }
 
-// Codes the first `count` frames as one GOM with candidate `c` and fills its extrapolated rate,
-// distortion and J = D + λ·R with λ = (ln 2 / 6) Δ², Δ = `target` (0: the object has no size,
-// and only the distortion counts). Distances are in units of Δ, so that J stays finite and
-// ordered at any scale of the input (in world units, a squared distance overflows beyond 1e154
-// and underflows below 1e-154); λ is then ln 2 / 6.
-void measure(Candidate& c, const EncoderParams& params, const SequenceBounds& bounds,
-             const std::vector<Mesh>& frames, const std::vector<std::string>& names,
-             size_t sequenceFrames, double target) {
-  const double unit = target > 0 ? target : 1.0;
-  const double lambda = target > 0 ? std::log(2.0) / 6.0 : 0.0;
+// What a candidate's trial codings add up to: per window, its I mesh (frame 0, with vertex
+// order and attributes) and its P meshes (frames 1 .. n-1), bits and squared distances.
+struct TrialSums {
+  double intraBits = 0, intraError = 0;  // summed over the windows
+  double interBits = 0, interError = 0;  // summed over the windows' P meshes
+  double windows = 0, interFrames = 0;
+};
+
+// Codes `frames` (one trial window) as one GOM with candidate `c` and adds its rate and
+// distortion to `sums`. Distances are in units of `unit` (Δ), so that J stays finite and ordered
+// at any scale of the input (in world units, a squared distance overflows beyond 1e154 and
+// underflows below 1e-154).
+void codeWindow(TrialSums& sums, const Candidate& c, const EncoderParams& params,
+                const SequenceBounds& bounds, const std::vector<Mesh>& frames,
+                const std::vector<std::string>& names, double unit) {
   EncoderParams p = params;
   p.gridBits = c.gridBits;
   p.motionQuantStep = c.step;
@@ -61,23 +66,42 @@ void measure(Candidate& c, const EncoderParams& params, const SequenceBounds& bo
       }
     }
   }
-  // Frame 0 stands for the I meshes (with their vertex order and attributes), frames 1 .. n-1
-  // for the P meshes; the sequence has one I mesh per random access point.
-  const double intraBits = 8.0 * (coded.iMeshBytes + coded.orderBytes + coded.attributeBytes);
-  const double n = static_cast<double>(frames.size());
+  sums.windows += 1;
+  sums.intraBits += 8.0 * (coded.iMeshBytes + coded.orderBytes + coded.attributeBytes);
+  sums.intraError += frameError[0];
+  sums.interBits += 8.0 * coded.pMeshBytes;
+  for (size_t k = 1; k < frames.size(); ++k)
+    sums.interError += frameError[k];
+  sums.interFrames += static_cast<double>(frames.size() - 1);
+}
+
+// Candidate `c`'s rate and distortion over a sequence of `sequenceFrames` frames, extrapolated
+// from its trial codings: each I mesh of the sequence (one per random access point) as the
+// windows' mean I mesh, each other frame as their mean P mesh.
+void extrapolate(Candidate& c, const TrialSums& sums, const EncoderParams& params,
+                 size_t sequenceFrames) {
   const double intraFrames =
       static_cast<double>(std::min(randomAccessGoms(params, sequenceFrames), sequenceFrames));
   const double interFrames = static_cast<double>(sequenceFrames) - intraFrames;
-  c.bits = intraFrames * intraBits / (params.pmeshMode == PMeshMode::kIntra ? n : 1.0);
-  c.distortion = intraFrames * frameError[0];
-  if (frames.size() > 1 && interFrames > 0) {
-    double interError = 0;
-    for (size_t k = 1; k < frames.size(); ++k)
-      interError += frameError[k];
-    c.bits += interFrames * 8.0 * coded.pMeshBytes / (n - 1);
-    c.distortion += interFrames * interError / (n - 1);
+  c.bits = intraFrames * sums.intraBits / sums.windows;
+  c.distortion = intraFrames * sums.intraError / sums.windows;
+  if (sums.interFrames > 0 && interFrames > 0) {
+    c.bits += interFrames * sums.interBits / sums.interFrames;
+    c.distortion += interFrames * sums.interError / sums.interFrames;
   }
-  c.j = c.distortion + lambda * c.bits;
+}
+
+// "frame numbers 80-88, 166-174": the windows' frames numbered as the input numbers them
+// (`first`: frame 0's number).
+std::string describe(const std::vector<TrialWindow>& windows, long long first) {
+  std::string text = "frame numbers ";
+  for (size_t w = 0; w < windows.size(); ++w) {
+    const long long a = first + static_cast<long long>(windows[w].first);
+    text += (w ? ", " : "") + std::to_string(a);
+    if (windows[w].count > 1)
+      text += "-" + std::to_string(a + static_cast<long long>(windows[w].count) - 1);
+  }
+  return text;
 }
 
 // Setting either precision key means coding by hand: Quality derives nothing.
@@ -96,13 +120,34 @@ bool qualityCodesBMeshes(const EncoderParams& params, const IsSetFunction& isSet
          !isSet("BMeshGap") && !keyframeKeysSet(isSet);
 }
 
-size_t qualityTrialFrames(const EncoderParams& params, size_t frameCount,
-                          const IsSetFunction& isSet) {
+std::vector<TrialWindow> qualityTrialWindows(const EncoderParams& params, size_t frameCount,
+                                             const IsSetFunction& isSet) {
+  std::vector<TrialWindow> windows;
   if (params.quality < 0 || params.pmeshMode == PMeshMode::kIntra || frameCount == 0 ||
       codedByHand(isSet))
-    return 0;
-  const size_t firstGom = static_cast<size_t>(params.goms(frameCount).front().second);
-  return std::min<size_t>(kQualityTrialFrames, firstGom);
+    return windows;
+  const GomList goms = params.goms(frameCount);
+  const size_t per = static_cast<size_t>(kQualityFramesPerTrialWindow);
+  const size_t count =
+      std::min<size_t>(kQualityTrialWindows, (frameCount + per - 1) / per);  // >= 1
+  for (size_t i = 0; i < count; ++i) {
+    const size_t centre = (2 * i + 1) * frameCount / (2 * count);
+    // The GOM holding the centre (the list covers frames 0 .. frameCount - 1 in order).
+    auto gom = std::upper_bound(
+        goms.begin(), goms.end(), centre,
+        [](size_t f, const std::pair<int, int>& g) { return f < static_cast<size_t>(g.first); });
+    --gom;
+    const size_t gomFirst = static_cast<size_t>(gom->first);
+    const size_t gomCount = static_cast<size_t>(gom->second);
+    TrialWindow w;
+    w.count = std::min<size_t>(kQualityTrialFrames, gomCount);
+    w.first =
+        std::clamp(centre - std::min(centre, w.count / 2), gomFirst, gomFirst + gomCount - w.count);
+    // Apart from the previous window (they are, unless the GOMs are very uneven).
+    if (!windows.empty() && w.first < windows.back().first + windows.back().count) continue;
+    windows.push_back(w);
+  }
+  return windows;
 }
 
 EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& bounds,
@@ -144,30 +189,69 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
       add(base + extra);
   }
 
-  std::string measured;
+  std::string measured, windowText, slopeText;
   size_t best = 0;
+  double lambda = 0;  // in units of Δ²
   if (candidates.size() > 1) {
-    // The trial: the first frames of the first GOM.
-    const size_t count = qualityTrialFrames(p, source.count, isSet);
-    // Named as the encode names them, so that an error the trial meets (it meets the real
-    // encode's first errors first) reads the same.
-    std::vector<Mesh> frames;
-    std::vector<std::string> names;
-    for (size_t k = 0; k < count; ++k) {
-      frames.push_back(source.read(k));
-      names.push_back(source.name ? source.name(k) : "frame " + std::to_string(k));
-    }
+    // The trial: every candidate codes every window. Frames are named as the encode names
+    // them, so that an error the trial meets reads the same.
+    const std::vector<TrialWindow> windows = qualityTrialWindows(p, source.count, isSet);
+    std::vector<std::vector<Mesh>> frames(windows.size());
+    std::vector<std::vector<std::string>> names(windows.size());
+    for (size_t w = 0; w < windows.size(); ++w)
+      for (size_t k = windows[w].first; k < windows[w].first + windows[w].count; ++k) {
+        frames[w].push_back(source.read(k));
+        names[w].push_back(source.name ? source.name(k) : "frame " + std::to_string(k));
+      }
     // The trial codes frames the real encode codes (and warns about) again.
     SilenceWarningsScope quiet;
+    const double unit = target > 0 ? target : 1.0;
+    auto trial = [&](Candidate& c) {
+      TrialSums sums;
+      for (size_t w = 0; w < windows.size(); ++w)
+        codeWindow(sums, c, p, bounds, frames[w], names[w], unit);
+      extrapolate(c, sums, p, source.count);
+    };
+    auto choose = [&](double slope) {
+      best = 0;
+      for (size_t i = 0; i < candidates.size(); ++i) {
+        candidates[i].j = candidates[i].distortion + slope * candidates[i].bits;
+        if (candidates[i].j < candidates[best].j) best = i;
+      }
+    };
+    for (Candidate& c : candidates)
+      trial(c);
+    // λ: first the model's, (ln 2 / 6)·Δ² (in units of Δ²; 0 when the object has no size, and
+    // only the distortion counts); then the slope the sequence itself shows next to the model's
+    // choice, on the side the other candidates lie (they reach Δ by a finer grid: less
+    // distortion for more rate): its grid with half its step. Where the model's slope holds
+    // (fine steps) the two agree; at coarse steps (few bits per vertex) rate buys far more
+    // distortion than the model says, and the model would pick a finer grid than the hull.
+    lambda = target > 0 ? std::log(2.0) / 6.0 : 0.0;
+    choose(lambda);
+    if (lambda > 0 && candidates[best].step > 1) {
+      Candidate finer{candidates[best].gridBits, candidates[best].step / 2};
+      trial(finer);
+      const Candidate& at = candidates[best];
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "; slope from GridBits %d MotionQuantStep %d: %.6g kbit, D %.6g",
+                    finer.gridBits, finer.step, finer.bits / 1000, finer.distortion);
+      slopeText = text;
+      if (finer.bits > at.bits && finer.distortion < at.distortion) {
+        lambda = (at.distortion - finer.distortion) / (finer.bits - at.bits);
+        choose(lambda);
+      }
+    }
     for (size_t i = 0; i < candidates.size(); ++i) {
-      measure(candidates[i], p, bounds, frames, names, source.count, target);
-      if (candidates[i].j < candidates[best].j) best = i;
       char text[160];
-      std::snprintf(text, sizeof text, "%sGridBits %d MotionQuantStep %d: %.4g kbit, J %.6g",
-                    i ? "; " : "", candidates[i].gridBits, candidates[i].step,
-                    candidates[i].bits / 1000, candidates[i].j);
+      std::snprintf(text, sizeof text,
+                    "%sGridBits %d MotionQuantStep %d: %.6g kbit, D %.6g, J %.6g", i ? "; " : "",
+                    candidates[i].gridBits, candidates[i].step, candidates[i].bits / 1000,
+                    candidates[i].distortion, candidates[i].j);
       measured += text;
     }
+    windowText = describe(windows, p.firstFrame);
   }
   p.gridBits = candidates[best].gridBits;
   p.motionQuantStep = candidates[best].step;
@@ -183,8 +267,11 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
                   target, p.gridFit == GridFit::kObject ? "object" : "sequence", p.gridBits,
                   p.motionQuantStep, p.effectiveLambda(), p.keyframeLambda, p.bMeshGap);
     *report = text;
-    if (!measured.empty())
-      *report += " (chosen by coding the first frames with each candidate: " + measured + ")";
+    if (!measured.empty()) {
+      std::snprintf(text, sizeof text, "%.6g", lambda);
+      *report += " (chosen by coding " + windowText + " with each candidate, J = D + " + text +
+                 " R: " + measured + slopeText + ")";
+    }
   }
   return p;
 }

@@ -73,6 +73,17 @@ FrameSource sourceOf(const std::vector<Mesh>& frames) {
   return s;
 }
 
+// sourceOf(frames) counting each frame's reads in `reads` (one counter per frame).
+FrameSource countingSourceOf(const std::vector<Mesh>& frames,
+                             std::vector<std::atomic<int>>& reads) {
+  FrameSource s = sourceOf(frames);
+  s.read = [&frames, &reads](size_t k) {
+    ++reads[k];
+    return frames[k];
+  };
+  return s;
+}
+
 TEST(GridFitObject, TheEncoderKeepsPrecisionOnAWalkingObject) {
   const std::vector<Mesh> frames = walkingBlob(6, 1.0);
   const FrameSource source = sourceOf(frames);
@@ -128,7 +139,7 @@ TEST(Quality, ChoosesTheCandidateOfLeastJAndReachesTheTargetStep) {
     // The report lists each candidate; the chosen one has the least J.
     EXPECT_NE(r.report.find("GridBits " + std::to_string(r.params.gridBits)), std::string::npos);
     double least = 1e300, chosen = -1;
-    for (size_t at = r.report.find(", J "); at != std::string::npos;
+    for (size_t at = r.report.find(", J ", r.report.find(" R: ")); at != std::string::npos;
          at = r.report.find(", J ", at + 1)) {
       const double j = std::stod(r.report.substr(at + 4));
       const size_t name = r.report.rfind("GridBits ", at);
@@ -139,6 +150,73 @@ TEST(Quality, ChoosesTheCandidateOfLeastJAndReachesTheTargetStep) {
     ASSERT_LT(least, 1e300) << r.report;  // a trial was made
     EXPECT_EQ(chosen, least) << r.report;
   }
+}
+
+// The numbers after `key` in `text` from `at` on.
+double numberAfter(const std::string& text, const std::string& key, size_t at = 0) {
+  const size_t found = text.find(key, at);
+  if (found == std::string::npos) return std::nan("");
+  return std::stod(text.substr(found + key.size()));
+}
+
+TEST(Quality, LambdaIsTheSlopeMeasuredOnTheFinerSideOfTheModelsChoice) {
+  // The report gives λ, each candidate's extrapolated rate R (kbit), distortion D and J, and
+  // the coding that measured the slope: the model's choice (least D + (ln 2 / 6) R) with half
+  // its step. Where that coding is cheaper in D and dearer in R, λ is the slope between the
+  // two, and the choice is the least D + λ R.
+  const std::vector<Mesh> frames = walkingBlob(10, 0.05);
+  const double model = std::log(2.0) / 6.0;
+  bool measuredOnce = false;
+  for (int q : {0, 10, 20, 30, 50}) {
+    const Resolved r = resolve(frames, q);
+    const double lambda = numberAfter(r.report, "J = D + ");
+    ASSERT_FALSE(std::isnan(lambda)) << r.report;
+    struct Point {
+      int bits, step;
+      double rate, d, j;
+    };
+    std::vector<Point> points;
+    for (size_t at = r.report.find("GridBits ", r.report.find("J = D + "));
+         at != std::string::npos && at < r.report.find("; slope");
+         at = r.report.find("GridBits ", at + 1)) {
+      Point p{std::stoi(r.report.substr(at + 9)),
+              static_cast<int>(numberAfter(r.report, "MotionQuantStep ", at)),
+              1000 * numberAfter(r.report, ": ", at), numberAfter(r.report, "D ", at),
+              numberAfter(r.report, "J ", at)};
+      points.push_back(p);
+    }
+    ASSERT_GE(points.size(), 2u) << r.report;
+    const Point* chosen = nullptr;
+    const Point* byModel = &points[0];
+    for (const Point& p : points) {
+      EXPECT_NEAR(p.j, p.d + lambda * p.rate, 1e-5 * p.j + 1e-3 * lambda) << r.report;
+      if (p.bits == r.params.gridBits) chosen = &p;
+      if (p.d + model * p.rate < byModel->d + model * byModel->rate) byModel = &p;
+    }
+    ASSERT_NE(chosen, nullptr) << r.report;
+    for (const Point& p : points)
+      EXPECT_LE(chosen->j, p.j) << r.report;
+    const size_t slope = r.report.find("; slope from GridBits ");
+    if (byModel->step == 1) {
+      EXPECT_EQ(slope, std::string::npos) << r.report;
+      EXPECT_NEAR(lambda, model, 1e-6) << r.report;
+      continue;
+    }
+    ASSERT_NE(slope, std::string::npos) << r.report;
+    EXPECT_EQ(std::stoi(r.report.substr(slope + 22)), byModel->bits) << r.report;
+    EXPECT_EQ(static_cast<int>(numberAfter(r.report, "MotionQuantStep ", slope)), byModel->step / 2)
+        << r.report;
+    const double finerRate = 1000 * numberAfter(r.report, ": ", slope);
+    const double finerD = numberAfter(r.report, "D ", slope);
+    if (finerRate > byModel->rate && finerD < byModel->d) {
+      EXPECT_NEAR(lambda, (byModel->d - finerD) / (finerRate - byModel->rate), 1e-3 * lambda)
+          << r.report;
+      measuredOnce = measuredOnce || std::abs(lambda - model) > 0.01 * model;
+    } else {
+      EXPECT_NEAR(lambda, model, 1e-6) << r.report;
+    }
+  }
+  EXPECT_TRUE(measuredOnce);  // the case is not vacuous: some Quality measured its own λ
 }
 
 TEST(Quality, TheChoiceDoesNotDependOnTheScale) {
@@ -274,17 +352,85 @@ TEST(Quality, TheEncoderUsesItsChoiceAndSaysSo) {
   EXPECT_EQ(manual.grid().bits, 12);  // GridBits' default over the sequence's box
 }
 
+TEST(Quality, TrialWindowsAreCentredInEqualPartsEachInsideOneGom) {
+  const IsSetFunction none = [](const std::string&) { return false; };
+  EncoderParams p;
+  p.quality = 50;
+  // samba's layout: 175 frames in GOMs of 25: three windows of 9 frames around frames 29, 87
+  // and 145, moved into their GOMs (25-49, 75-99, 125-149).
+  p.gomSize = 25;
+  EXPECT_EQ(qualityTrialWindows(p, 175, none),
+            (std::vector<TrialWindow>{{25, 9}, {83, 9}, {141, 9}}));
+  // Every layout: ceil(n / 64) windows up to 3, each containing its part's middle frame, of 9
+  // frames or its whole GOM, inside that GOM, apart and in order.
+  for (int gomSize : {1, 2, 5, 8, 9, 25, 100, 1000})
+    for (size_t n = 1; n <= 260; ++n) {
+      p.gomSize = gomSize;
+      const std::vector<TrialWindow> windows = qualityTrialWindows(p, n, none);
+      const size_t expected = std::min<size_t>(3, (n + 63) / 64);
+      ASSERT_EQ(windows.size(), expected) << n << " frames, GOMs of " << gomSize;
+      for (size_t w = 0; w < windows.size(); ++w) {
+        const TrialWindow& t = windows[w];
+        const size_t gomFirst = t.first / static_cast<size_t>(gomSize) * gomSize;
+        const size_t gomCount = std::min<size_t>(gomSize, n - gomFirst);
+        EXPECT_EQ(t.count, std::min<size_t>(9, gomCount)) << n << " " << gomSize << " " << w;
+        EXPECT_LE(t.first + t.count, gomFirst + gomCount) << n << " " << gomSize << " " << w;
+        if (w > 0) {
+          EXPECT_GE(t.first, windows[w - 1].first + windows[w - 1].count) << n << " " << gomSize;
+        }
+        const size_t centre = (2 * w + 1) * n / (2 * expected);
+        EXPECT_TRUE(t.first <= centre && centre < t.first + t.count)
+            << n << " " << gomSize << " " << w;
+      }
+    }
+  // No trial: Quality off, coding by hand, every frame intra.
+  p.gomSize = 25;
+  p.quality = -1;
+  EXPECT_TRUE(qualityTrialWindows(p, 175, none).empty());
+  p.quality = 50;
+  EXPECT_TRUE(qualityTrialWindows(p, 175, [](const std::string& key) {
+                return key == "MotionQuantStep";
+              }).empty());
+  p.pmeshMode = PMeshMode::kIntra;
+  EXPECT_TRUE(qualityTrialWindows(p, 175, none).empty());
+}
+
+TEST(Quality, TheTrialCodesItsWindowsReadingEachFrameOnce) {
+  // 140 frames in GOMs of 20: windows around frames 23, 70 and 116 (the last moved to end with
+  // its GOM, 100-119); resolveQuality reads those frames once each and no other, and names
+  // them in its report by their frame numbers.
+  const std::vector<Mesh> frames = walkingBlob(140, 0.01);
+  std::vector<std::atomic<int>> reads(frames.size());
+  const FrameSource counted = countingSourceOf(frames, reads);
+  EncoderParams p;
+  p.quality = 50;
+  p.gomSize = 20;
+  p.firstFrame = 1000;
+  std::string report;
+  resolveQuality(
+      p, boundsOfSequence(sourceOf(frames)), counted, [](const std::string&) { return false; },
+      &report);
+  const std::vector<TrialWindow> windows =
+      qualityTrialWindows(p, frames.size(), [](const std::string&) { return false; });
+  ASSERT_EQ(windows, (std::vector<TrialWindow>{{20, 9}, {66, 9}, {111, 9}}));
+  for (size_t k = 0; k < frames.size(); ++k) {
+    bool inWindow = false;
+    for (const TrialWindow& w : windows)
+      inWindow = inWindow || (k >= w.first && k < w.first + w.count);
+    EXPECT_EQ(reads[k], inWindow ? 1 : 0) << "frame " << k;
+  }
+  EXPECT_NE(report.find("chosen by coding frame numbers 1020-1028, 1066-1074, 1111-1119 "),
+            std::string::npos)
+      << report;
+}
+
 TEST(Quality, TheTrialReadsNoFrameAThirdTime) {
   // The Encoder reads every frame twice (bounds, then GOM by GOM; frame 0 once more for
-  // encodeSequence's look at its attributes); the trial codes the first frames kept from the
-  // first pass.
+  // encodeSequence's look at its attributes); the trial codes its window's frames (6 .. 11
+  // here) kept from the first pass.
   const std::vector<Mesh> frames = walkingBlob(12, 0.05);
   std::vector<std::atomic<int>> reads(frames.size());
-  FrameSource counted = sourceOf(frames);
-  counted.read = [&](size_t k) {
-    ++reads[k];
-    return frames[k];
-  };
+  const FrameSource counted = countingSourceOf(frames, reads);
   Encoder encoder;
   encoder.set("GOMSize", "6");
   encoder.encode(counted);

@@ -9,6 +9,7 @@ import tempfile
 import unittest
 
 import quality_hull
+import quality_lambda_study
 
 
 class HullTest(unittest.TestCase):
@@ -26,6 +27,30 @@ class HullTest(unittest.TestCase):
         self.assertAlmostEqual(quality_hull.hull_rate(hull, 10.0), 100.0)
         self.assertIsNone(quality_hull.hull_rate(hull, 0.5))   # finer than any point
         self.assertIsNone(quality_hull.hull_rate(hull, 20.0))  # coarser than any point
+
+
+class LambdaStudyTest(unittest.TestCase):
+    def test_candidates_reach_the_target_step(self):
+        # An object of size 1023 at Quality 50: Δ = 1, grids of 10 .. 13 bits, steps 1 .. 8.
+        cands, delta = quality_lambda_study.candidates(1023.0, 50)
+        self.assertEqual(delta, 1023.0 / 1024)
+        self.assertEqual(cands, [(10, 1), (11, 2), (12, 4), (13, 8)])
+
+    def test_the_finer_slope_decides_where_the_model_is_too_small(self):
+        # (bits, step) -> (R bits, D in units of Δ²). The model (λ = ln 2 / 6 = 0.1155) prefers
+        # (10, 8): 200 + 0.1155 * 1000 = 315.5 against (9, 4): 260 + 0.1155 * 600 = 329.3.
+        # Half (10, 8)'s step costs 400 bits for 160 less D: slope 0.4, and with it (9, 4) wins
+        # (500 against 600). Twice the step saves 200 bits for 40 more D: slope 0.2, and (9, 4)
+        # wins as well (380 against 400).
+        points = {(9, 4): (600.0, 260.0), (10, 8): (1000.0, 200.0), (10, 4): (1400.0, 40.0),
+                  (10, 16): (800.0, 240.0)}
+        cands = [(9, 4), (10, 8)]
+        self.assertEqual(quality_lambda_study.choose(points, cands, "model"), (10, 8))
+        self.assertEqual(quality_lambda_study.choose(points, cands, "finer"), (9, 4))
+        self.assertEqual(quality_lambda_study.choose(points, cands, "coarser"), (9, 4))
+        # A finer coding that saves nothing keeps the model's choice.
+        points[(10, 4)] = (1400.0, 210.0)
+        self.assertEqual(quality_lambda_study.choose(points, cands, "finer"), (10, 8))
 
 
 class PageTest(unittest.TestCase):
