@@ -189,12 +189,11 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
       add(base + extra);
   }
 
-  std::string measured, windowText, slopeText;
+  std::string measured, windowText, slopeText, stopped;
   size_t best = 0;
   double lambda = 0;  // in units of Δ²
   if (candidates.size() > 1) {
-    // The trial: every candidate codes every window. Frames are named as the encode names
-    // them, so that an error the trial meets reads the same.
+    // The trial: every candidate codes every window, its frames named as the encode names them.
     const std::vector<TrialWindow> windows = qualityTrialWindows(p, source.count, isSet);
     std::vector<std::vector<Mesh>> frames(windows.size());
     std::vector<std::vector<std::string>> names(windows.size());
@@ -219,31 +218,41 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
         if (candidates[i].j < candidates[best].j) best = i;
       }
     };
-    for (Candidate& c : candidates)
-      trial(c);
     // λ: first the model's, (ln 2 / 6)·Δ² (in units of Δ²; 0 when the object has no size, and
-    // only the distortion counts); then the slope the sequence itself shows next to the model's
-    // choice, on the side the other candidates lie (they reach Δ by a finer grid: less
-    // distortion for more rate): its grid with half its step. Where the model's slope holds
-    // (fine steps) the two agree; at coarse steps (few bits per vertex) rate buys far more
-    // distortion than the model says, and the model would pick a finer grid than the hull.
-    lambda = target > 0 ? std::log(2.0) / 6.0 : 0.0;
-    choose(lambda);
-    if (lambda > 0 && candidates[best].step > 1) {
-      Candidate finer{candidates[best].gridBits, candidates[best].step / 2};
-      trial(finer);
-      const Candidate& at = candidates[best];
-      char text[200];
-      std::snprintf(text, sizeof text,
-                    "; slope from GridBits %d MotionQuantStep %d: %.6g kbit, D %.6g",
-                    finer.gridBits, finer.step, finer.bits / 1000, finer.distortion);
-      slopeText = text;
-      if (finer.bits > at.bits && finer.distortion < at.distortion) {
-        lambda = (at.distortion - finer.distortion) / (finer.bits - at.bits);
-        choose(lambda);
+    // only the distortion counts), picks a candidate; then the slope between it and its grid at
+    // half its step, as the sequence shows it, decides. An empirical rule, chosen on the
+    // brute-force hull (tools/rd/quality_lambda_study.py; docs/options.md, "Quality"): the
+    // model's λ, the tangent of a high-rate quantiser, is 2 to 4 times smaller than the slopes
+    // measured at the shared sequences' Quality points, and with it the choice fell off the hull
+    // by up to 4 % at coarse steps.
+    try {
+      for (Candidate& c : candidates)
+        trial(c);
+      lambda = target > 0 ? std::log(2.0) / 6.0 : 0.0;
+      choose(lambda);
+      if (lambda > 0 && candidates[best].step > 1) {
+        Candidate finer{candidates[best].gridBits, candidates[best].step / 2};
+        trial(finer);
+        const Candidate& at = candidates[best];
+        char text[200];
+        std::snprintf(text, sizeof text,
+                      "; slope from GridBits %d MotionQuantStep %d: %.6g kbit, D %.6g",
+                      finer.gridBits, finer.step, finer.bits / 1000, finer.distortion);
+        slopeText = text;
+        if (finer.bits > at.bits && finer.distortion < at.distortion) {
+          lambda = (at.distortion - finer.distortion) / (finer.bits - at.bits);
+          choose(lambda);
+        }
       }
+    } catch (const Error& e) {
+      // A window is coded as a GOM of its own, so an input error (a frame whose connectivity
+      // differs from the others') would name the window's first frame as the GOM's. Each window
+      // lies inside one GOM of the encode, which meets the same frames and says it with its own
+      // GOM: the trial stops, its first candidate stands, and the report says why.
+      best = 0;
+      stopped = e.what();
     }
-    for (size_t i = 0; i < candidates.size(); ++i) {
+    for (size_t i = 0; i < candidates.size() && stopped.empty(); ++i) {
       char text[160];
       std::snprintf(text, sizeof text,
                     "%sGridBits %d MotionQuantStep %d: %.6g kbit, D %.6g, J %.6g", i ? "; " : "",
@@ -267,6 +276,8 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
                   target, p.gridFit == GridFit::kObject ? "object" : "sequence", p.gridBits,
                   p.motionQuantStep, p.effectiveLambda(), p.keyframeLambda, p.bMeshGap);
     *report = text;
+    if (!stopped.empty())
+      *report += " (the trial, coding " + windowText + ", stopped: " + stopped + ")";
     if (!measured.empty()) {
       std::snprintf(text, sizeof text, "%.6g", lambda);
       *report += " (chosen by coding " + windowText + " with each candidate, J = D + " + text +

@@ -1680,6 +1680,22 @@ CATALOGUE_TEST(O14) {
   expectRow("O14", "3dvo-enc", args);
 }
 
+// O14 under Quality: its trial codes a window in the middle of the 20-frame GOM (frames 6 .. 14),
+// as a GOM of its own, and meets the odd frame 12 first; the message is still the encode's,
+// naming the GOM's first frame, not the window's.
+TEST_F(ErrorsTest, O14UnderQualityNamesTheGomsFirstFrame) {
+  writeInput("", 20);
+  test::writeText(dir_.file("in/012.obj"), kTriangle + "f 1 2 3\n");
+  const CommandResult r = test::run(
+      dir_, kBin + "/3dvo-enc",
+      {"--InputMeshPattern=in/%03d.obj", "--FrameCount=20", "--GOMSize=20", "-o", "x.3dvo"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_NE(r.err.find("in/012.obj: 3 vertices, but the GOM's first frame (in/000.obj) has 42"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_.file("x.3dvo")));
+}
+
 CATALOGUE_TEST(O15) {
   // Same vertex count, other triangles.
   writeInput("", 2);

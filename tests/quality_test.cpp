@@ -424,17 +424,36 @@ TEST(Quality, TheTrialCodesItsWindowsReadingEachFrameOnce) {
       << report;
 }
 
+TEST(Quality, ATrialThatMeetsAnInputErrorStopsAndSaysSo) {
+  // Frame 5 of a GOM of 10 has a vertex fewer: the trial's window (frames 1 .. 9) cannot be
+  // coded. resolveQuality does not throw the window's version of the error (the encode reports
+  // it with its own GOM); its first candidate stands and the report says why.
+  std::vector<Mesh> frames = walkingBlob(10, 0.05);
+  frames[5].positions.pop_back();
+  frames[5].triangles.clear();
+  const Resolved r = resolve(frames, 50);
+  EXPECT_NE(r.report.find("(the trial, coding frame numbers 1-9, stopped: "), std::string::npos)
+      << r.report;
+  EXPECT_EQ(r.report.find("chosen by coding"), std::string::npos) << r.report;
+  const Resolved fine = resolve(walkingBlob(10, 0.05), 50);
+  const size_t first = fine.report.find("GridBits ", fine.report.find(" R: "));
+  ASSERT_NE(first, std::string::npos) << fine.report;
+  EXPECT_EQ(r.params.gridBits, std::stoi(fine.report.substr(first + 9))) << r.report;
+}
+
 TEST(Quality, TheTrialReadsNoFrameAThirdTime) {
   // The Encoder reads every frame twice (bounds, then GOM by GOM; frame 0 once more for
-  // encodeSequence's look at its attributes); the trial codes its window's frames (6 .. 11
-  // here) kept from the first pass.
-  const std::vector<Mesh> frames = walkingBlob(12, 0.05);
+  // encodeSequence's look at its attributes); the trial codes its windows' frames (20 .. 28,
+  // 66 .. 74 and 111 .. 119 here, with gaps between them) kept from the first pass.
+  const std::vector<Mesh> frames = walkingBlob(140, 0.01);
   std::vector<std::atomic<int>> reads(frames.size());
   const FrameSource counted = countingSourceOf(frames, reads);
   Encoder encoder;
-  encoder.set("GOMSize", "6");
+  encoder.set("GOMSize", "20");
   encoder.encode(counted);
-  EXPECT_NE(encoder.qualityReport().find("chosen by coding"), std::string::npos);
+  EXPECT_NE(encoder.qualityReport().find("chosen by coding frame numbers 20-28, 66-74, 111-119 "),
+            std::string::npos)
+      << encoder.qualityReport();
   for (size_t k = 0; k < frames.size(); ++k)
     EXPECT_EQ(reads[k], k == 0 ? 3 : 2) << "frame " << k;
 }
