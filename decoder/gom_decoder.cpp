@@ -112,7 +112,7 @@ void GomDecoder::decodeMesh(GomUnits& units, uint32_t k, const std::vector<Vec3i
 // Frame f of keyframe interval a .. b in a GOM of B meshes. previous_ is frame f - 1 (the last
 // one handed out; keyframe a when f = a + 1). The frames right of it that are decoded already
 // wait on the stack, nearest on top; the first is keyframe b, decoded from previous_. While the
-// nearest one, r, is not f, the frame m = (f - 1) + (r - f + 1) / 2 half way between is decoded as
+// nearest one, r, is not f, the frame m = bMeshMiddle(f - 1, r) half way between is decoded as
 // a B mesh from interpolateFrame(f - 1, r) and pushed. The B meshes thus come in the preorder of
 // the halving of a .. b (the middle frame, then the left half's, then the right half's), as the
 // encoder asked for them, and the frames go out in order.
@@ -127,7 +127,7 @@ const std::vector<Vec3i>& GomDecoder::nextWithBMeshes(GomUnits& units, uint32_t 
   if (left == a) decodeMesh(units, static_cast<uint32_t>(b), previous_, params_, push(b));
   while (stackFrames_[stackSize_ - 1] != static_cast<int>(f)) {
     const int r = stackFrames_[stackSize_ - 1];
-    const int m = left + (r - left) / 2;
+    const int m = bMeshMiddle(left, r);
     interpolateFrame(previous_, stack_[stackSize_ - 1], left, r, m, interpolated_);
     decodeMesh(units, static_cast<uint32_t>(m), interpolated_, bParams_, push(m));
   }

@@ -161,12 +161,14 @@ class GomCoder : public GomUnits {
  private:
   std::string name(size_t k) const { return frameName_(first_ + k); }
 
+  // The GOM's own P-mesh Lambda (its keyframes' and, without B meshes, every P mesh's).
+  double pLambda() const { return params_.lambdaFor(pmParams_.quantStep); }
+
   // The Lambda of GOM frame k's P mesh: the GOM's, or, for a B mesh, its level's.
   double lambdaOf(size_t k) const {
     const std::vector<uint16_t>& keys = bMeshKeyframes_;
     const auto b = std::upper_bound(keys.begin(), keys.end(), k);
-    if (keys.empty() || b == keys.begin() || b == keys.end() || b[-1] == k)
-      return params_.lambdaFor(pmParams_.quantStep);
+    if (keys.empty() || b == keys.begin() || b == keys.end() || b[-1] == k) return pLambda();
     return params_.bMeshLambda(bMeshLevel(b[-1], *b, static_cast<int>(k)));
   }
 
@@ -270,8 +272,7 @@ class GomCoder : public GomUnits {
     const auto cost = [&](int a, int b) {
       const std::vector<Vec3i>& ka = all.frames[a].positions;
       if (b == a + 1) return squared(all.frames[b].positions, target[b]) + lambda * allBits[b];
-      const PMeshEncoding p =
-          codePMesh(ka, target[b], pmParams_, params_.lambdaFor(pmParams_.quantStep));
+      const PMeshEncoding p = codePMesh(ka, target[b], pmParams_, pLambda());
       PMeshUnit pm;
       pm.pm_frame = static_cast<uint32_t>(first_ + b);
       pm.pm_cabac_payload = p.payload;

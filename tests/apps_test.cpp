@@ -183,13 +183,17 @@ TEST_F(AppsTest, TheEffectiveConfigurationReproducesTheRun) {
   const CommandResult first = test::run(
       dir_, kEncoder, {"--InputMeshPattern=in/%03d.obj", "--FirstFrame=1", "-o", "a.3dvo"});
   ASSERT_EQ(first.exitCode, 0) << first.err;
-  // The block: from its title line to the first empty line.
-  const std::string title = "# 3dvo-enc effective configuration\n";
-  const size_t start = first.out.find(title);
-  ASSERT_NE(start, std::string::npos) << first.out;
-  const size_t end = first.out.find("\n\n", start);
-  ASSERT_NE(end, std::string::npos) << first.out;
-  const std::string block = first.out.substr(start + title.size(), end + 1 - start - title.size());
+  // The block: from its title line to the first empty line ("" when there is none).
+  const auto blockOf = [](const std::string& out) {
+    const std::string title = "# 3dvo-enc effective configuration\n";
+    const size_t from = out.find(title);
+    const size_t to = out.find("\n\n", from);
+    return from == std::string::npos || to == std::string::npos
+               ? std::string()
+               : out.substr(from + title.size(), to + 1 - from - title.size());
+  };
+  const std::string block = blockOf(first.out);
+  ASSERT_FALSE(block.empty()) << first.out;
   EXPECT_NE(block.find("\n# GridBits                 : 12  (not set: chosen by Quality"),
             std::string::npos)
       << block;
@@ -224,13 +228,6 @@ TEST_F(AppsTest, TheEffectiveConfigurationReproducesTheRun) {
             std::vector<std::string>{"frame rate          : 29.97002997002997"});
   // Without B meshes (coding by hand) the B-mesh keys stay unset too: set, they would be an
   // error (C55). The growth is printed as given, every digit.
-  const auto blockOf = [&](const std::string& out) {
-    const size_t from = out.find(title);
-    const size_t to = out.find("\n\n", from);
-    return from == std::string::npos || to == std::string::npos
-               ? std::string()
-               : out.substr(from + title.size(), to + 1 - from - title.size());
-  };
   const CommandResult byHand = test::run(
       dir_, kEncoder,
       {"--InputMeshPattern=in/%03d.obj", "--FirstFrame=1", "--Quality=-1", "-o", "c.3dvo"});

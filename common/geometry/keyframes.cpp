@@ -18,7 +18,7 @@ void interpolateFrame(const std::vector<Vec3i>& ka, const std::vector<Vec3i>& kb
 
 int bMeshLevel(int a, int b, int f) {
   for (int level = 1;; ++level) {
-    const int m = a + (b - a) / 2;
+    const int m = bMeshMiddle(a, b);
     if (m == f || b - a < 2) return level;  // (the latter only for f outside a .. b)
     (f < m ? b : a) = m;
   }

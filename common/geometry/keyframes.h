@@ -18,8 +18,13 @@ void interpolateFrame(const std::vector<Vec3i>& ka, const std::vector<Vec3i>& kb
                       int f, std::vector<Vec3i>& out);
 
 // B meshes (docs/bitstream.md, "B meshes"): the frames a < f < b between two keyframes are
-// coded in the preorder of the halving of a .. b, frame m = a + (b - a) / 2 first. The level
-// of frame f in that halving: 1 for m, 2 for the middles of a .. m and m .. b, and so on.
+// coded in the preorder of the halving of a .. b, its middle frame bMeshMiddle(a, b) first (the
+// decoder's order and the encoder's levels both come from it).
+constexpr int bMeshMiddle(int a, int b) {
+  return a + (b - a) / 2;
+}
+// The level of frame f in that halving: 1 for the middle m of a .. b, 2 for the middles of
+// a .. m and m .. b, and so on.
 int bMeshLevel(int a, int b, int f);
 
 }  // namespace tdvo
