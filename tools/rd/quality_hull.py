@@ -88,7 +88,7 @@ def main(argv):
         "",
         "Each point of the default mode (`Quality` only, cfg/rd/geometry.toml) against the lower "
         "convex hull, in the (rate, KG error) plane, of the brute-force sweep over `GridBits` 8 .. "
-        "14 (fitted to the object) x `MotionQuantStep` 1 .. 64 with B meshes as Quality codes them "
+        "16 (fitted to the object) x `MotionQuantStep` 1 .. 64 with B meshes as Quality codes them "
         "(`BMeshGap` 8, automatic `BMeshQuantStep`, `BMeshLambdaGrowth` 2; cfg/rd/geometry-hull.toml). Excess: the point's rate over the hull's rate at "
         "the same KG error, minus 1 (negative: below the hull, which the trial's finer choice of "
         "the quantiser can reach).",
