@@ -75,13 +75,12 @@ void codeWindow(TrialSums& sums, const Candidate& c, const EncoderParams& params
   sums.interFrames += static_cast<double>(frames.size() - 1);
 }
 
-// Candidate `c`'s rate and distortion over a sequence of `sequenceFrames` frames, extrapolated
-// from its trial codings: each I mesh of the sequence (one per random access point) as the
-// windows' mean I mesh, each other frame as their mean P mesh.
-void extrapolate(Candidate& c, const TrialSums& sums, const EncoderParams& params,
+// Candidate `c`'s rate and distortion over a sequence of `sequenceFrames` frames of which
+// `intraFrameCount` are I meshes (one per random access point), extrapolated from its trial
+// codings: each I mesh as the windows' mean I mesh, each other frame as their mean P mesh.
+void extrapolate(Candidate& c, const TrialSums& sums, size_t intraFrameCount,
                  size_t sequenceFrames) {
-  const double intraFrames =
-      static_cast<double>(std::min(randomAccessGoms(params, sequenceFrames), sequenceFrames));
+  const double intraFrames = static_cast<double>(intraFrameCount);
   const double interFrames = static_cast<double>(sequenceFrames) - intraFrames;
   c.bits = intraFrames * sums.intraBits / sums.windows;
   c.distortion = intraFrames * sums.intraError / sums.windows;
@@ -205,11 +204,13 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
     // The trial codes frames the real encode codes (and warns about) again.
     SilenceWarningsScope quiet;
     const double unit = target > 0 ? target : 1.0;
+    // The sequence's I meshes, the same for every candidate (goms() reads a GOMListFile).
+    const size_t intraFrames = std::min(randomAccessGoms(p, source.count), source.count);
     auto trial = [&](Candidate& c) {
       TrialSums sums;
       for (size_t w = 0; w < windows.size(); ++w)
         codeWindow(sums, c, p, bounds, frames[w], names[w], unit);
-      extrapolate(c, sums, p, source.count);
+      extrapolate(c, sums, intraFrames, source.count);
     };
     auto choose = [&](double slope) {
       best = 0;

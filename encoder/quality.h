@@ -15,11 +15,11 @@
 // vertices to the input's, R: bits). λ is the slope the sequence shows: first the model's,
 // (ln 2 / 6)·Δ² (an entropy-coded uniform quantiser of step Δ at high rate), picks a candidate;
 // that candidate's grid with half its step is coded too, and the slope between the two, where
-// the finer coding costs more rate for less distortion, is λ for the final choice. With d3dmc it then turns on B meshes
-// (BMeshGap kQualityBMeshGap; else, or with BMeshGap 0, keyframes by rate and distortion). Keys
-// the user sets are kept (GridFit, Lambda, KeyframeLambda, BMeshGap, BMeshQuantStep,
-// BMeshLambdaGrowth); setting GridBits or MotionQuantStep means coding by hand: Quality then
-// changes nothing.
+// the finer coding costs more rate for less distortion, is λ for the final choice. With d3dmc
+// it then turns on B meshes (BMeshGap kQualityBMeshGap; else, or with BMeshGap 0, keyframes by
+// rate and distortion). Keys the user sets are kept (GridFit, Lambda, KeyframeLambda, BMeshGap,
+// BMeshQuantStep, BMeshLambdaGrowth); setting GridBits or MotionQuantStep means coding by hand:
+// Quality then changes nothing.
 #pragma once
 
 #include <functional>
