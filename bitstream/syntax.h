@@ -27,8 +27,8 @@ std::vector<uint8_t> serialise(T value) {
 // Version 2 is version 3 without ATTRIBUTES units: its sequence header has no
 // sh_attributes_present (read as 0), which is the only place the versions differ. Version 4
 // adds B meshes (gh_pmesh_mode kGhD3dmcBMeshes); its streams without them are version 3's but
-// for sh_syntax_version.
-constexpr uint16_t kSyntaxVersion = 4;
+// for sh_syntax_version. Version 5 adds im_quant_step to the I mesh (read as 1 before).
+constexpr uint16_t kSyntaxVersion = 5;
 constexpr uint16_t kMinSyntaxVersion = 2;
 
 // Limits a decoder checks before it allocates anything (docs/bitstream.md, "Limits").
@@ -282,15 +282,24 @@ void transfer(Io& io, GomHeader& gh) {
              "the last keyframe must be the GOM's last frame");
 }
 
-// An I mesh: a Draco mesh whose POSITION attribute holds the grid integers.
+// An I mesh: a Draco mesh whose POSITION attribute holds the grid integers divided by
+// im_quant_step (syntax version 5; 1 before): the decoded positions are Draco's values times
+// im_quant_step, so an I mesh can be coded coarser than the grid.
+constexpr uint16_t kMinIMeshQuantStepSyntaxVersion = 5;
 struct IMeshUnit {
+  uint16_t syntaxVersion = kSyntaxVersion;  // not coded: the stream's, set before reading
   uint32_t im_frame = 0;
+  uint16_t im_quant_step = 1;
   std::vector<uint8_t> im_draco_payload;
 };
 
 template <class Io>
 void transfer(Io& io, IMeshUnit& im) {
   io.u32("im_frame", im.im_frame, 0, kMaxFrames - 1);
+  if (im.syntaxVersion >= kMinIMeshQuantStepSyntaxVersion)
+    io.u16("im_quant_step", im.im_quant_step, 1, kMaxMotionQuantStep);
+  else
+    im.im_quant_step = 1;
   io.rest("im_draco_payload", im.im_draco_payload);
 }
 

@@ -9,7 +9,7 @@
 namespace tdvo {
 
 IntMesh decodeIMesh(const std::vector<uint8_t>& payload, int gridBits, const std::string& context,
-                    uint64_t bytesRead, uint64_t memoryPerByte) {
+                    uint64_t bytesRead, uint64_t memoryPerByte, int quantStep) {
   // Draco allocates from the counts it reads before it checks them against the payload: those
   // counts are checked first (draco_limits.h).
   // Likewise the attribute descriptors, as Draco reaches them (decodeCheckedDracoMesh).
@@ -32,15 +32,20 @@ IntMesh decodeIMesh(const std::vector<uint8_t>& payload, int gridBits, const std
 
   IntMesh mesh;
   mesh.positions.resize(numPoints);
-  const int32_t maxCoordinate = (int32_t{1} << gridBits) - 1;
+  // Draco's values are the grid integers divided by quantStep (im_quant_step).
+  const int32_t maxCoordinate = ((int32_t{1} << gridBits) - 1) / quantStep;
   for (uint32_t i = 0; i < numPoints; ++i) {
     Vec3i& p = mesh.positions[i];
     if (!position->ConvertValue<int32_t>(position->mapped_index(draco::PointIndex(i)), 3, p.data()))
       throw Error(context + ": cannot read position of vertex " + std::to_string(i));
-    for (int32_t c : p)
+    for (int32_t& c : p) {
       if (c < 0 || c > maxCoordinate)
         throw Error(context + ": vertex " + std::to_string(i) + " coordinate " + std::to_string(c) +
-                    " outside the grid [0, " + std::to_string(maxCoordinate) + "]");
+                    " outside the grid [0, " + std::to_string(maxCoordinate) + "]" +
+                    (quantStep > 1 ? " (divided by im_quant_step " + std::to_string(quantStep) + ")"
+                                   : std::string()));
+      c *= quantStep;
+    }
   }
   mesh.triangles.resize(numFaces);
   for (uint32_t f = 0; f < numFaces; ++f) {

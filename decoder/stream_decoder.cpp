@@ -73,11 +73,12 @@ struct KeptUnits : GomUnits {
   int gridBits = 0;
   std::string where;  // the GOM header (for messages; none is expected)
   std::vector<std::vector<uint8_t>> payloads;
+  std::vector<uint16_t> iMeshQuantSteps;  // of each I mesh among the payloads, in order
   size_t taken = 0;
 
   void iMesh(uint32_t, IntMesh& mesh, std::string& meshWhere) override {
     // Its counts passed the mesh-memory limit when the geometry pass read it.
-    mesh = decodeIMesh(payloads[taken], gridBits, where, 0, 0);
+    mesh = decodeIMesh(payloads[taken], gridBits, where, 0, 0, iMeshQuantSteps.at(taken));
     payloads[taken++] = std::vector<uint8_t>();  // each is decoded once
     meshWhere = where;
   }
@@ -415,17 +416,23 @@ void StreamDecoder::Decoding::startGeometry(const GomHeader& gh) {
 // `frames`: the frames made from this I mesh's vertices (the GOM's; 1 in an intra GOM).
 IntMesh StreamDecoder::Decoding::readIMesh(uint32_t frame, uint32_t frames) {
   expectUnit(UnitType::kIMesh, "for " + frameName(frame));
-  const IMeshUnit im = parseUnit<IMeshUnit>(unit_, name_, trace_, "the I mesh");
+  IMeshUnit im;
+  im.syntaxVersion = sh_.sh_syntax_version;
+  parseUnitInto(unit_, name_, trace_, "the I mesh", im);
   const std::string where = name_ + ": " + unit_.describe();
   if (im.im_frame != frame)
     throw Error(where + ": im_frame " + std::to_string(im.im_frame) + " but expected " +
                 std::to_string(frame));
   // The mesh-memory limit (kDefaultMaxMeshMemoryPerByte), with the bytes through its CRC.
-  IntMesh decoded = decodeIMesh(im.im_draco_payload, sh_.sh_grid_bits, where,
-                                unit_.payloadOffset + unit_.size + 4, d_.maxMeshMemoryPerByte_);
+  IntMesh decoded =
+      decodeIMesh(im.im_draco_payload, sh_.sh_grid_bits, where,
+                  unit_.payloadOffset + unit_.size + 4, d_.maxMeshMemoryPerByte_, im.im_quant_step);
   limitDecodingWork(frames, decoded.positions.size());
-  if (!cameras_.empty() && !pull_ && mode_ == PMeshMode::kIntra)
+  if (!cameras_.empty() && !pull_ && mode_ == PMeshMode::kIntra) {
     kept_.payloads.push_back(im.im_draco_payload);
+    kept_.iMeshQuantSteps.resize(kept_.payloads.size(), 1);
+    kept_.iMeshQuantSteps.back() = im.im_quant_step;
+  }
   expectUnit(UnitType::kVertexOrder, "after the I mesh of " + frameName(frame));
   const VertexOrderUnit vo = parseUnit<VertexOrderUnit>(unit_, name_, trace_, "the vertex order");
   const std::string orderWhere = name_ + ": " + unit_.describe();

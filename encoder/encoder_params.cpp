@@ -62,6 +62,9 @@ void EncoderParams::registerOptions(OptionTable& t) {
       "clustering, spatial prediction, CABAC); intra = every frame an I mesh; afxic = "
       "P meshes as per-vertex temporal DPCM (AFX-IC-style reference, no clustering)");
   t.add("DracoSpeed", dracoSpeed, 0, 10, "Draco speed for I meshes: 0 = smallest, 10 = fastest");
+  t.add("IMeshQuantStep", iMeshQuantStep, 1, kMaxMotionQuantStep,
+        "quantiser step of the I meshes in grid units: each coordinate rounded to the nearest "
+        "multiple of it (1 = lossless on the grid)");
   t.add("InputTriangleOrder", inputTriangleOrder,
         "1: the decoder outputs the input's triangle list (same triangles, order and corner "
         "rotation); 0: the same triangles in Draco's order and rotation, which saves the "
@@ -165,6 +168,8 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.derivedWhenUnset("GridFit", byQuality);
   t.derivedWhenUnset("GridBits", byQuality + "; setting it codes by hand");
   t.derivedWhenUnset("MotionQuantStep", byQuality + "; setting it codes by hand");
+  t.derivedWhenUnset("IMeshQuantStep",
+                     "Quality's trial chooses 1 or MotionQuantStep unless Quality is -1");
   const std::string keyframes =
       "unless a keyframe key is set, Quality chooses the keyframes: by BMeshGap with d3dmc, "
       "else by rate and distortion";

@@ -40,6 +40,7 @@ struct EncoderParams {
   int randomAccessPeriod = 1;  // a random access point every this many GOMs (0: first only)
   PMeshMode pmeshMode = PMeshMode::kD3dmc;
   int dracoSpeed = 0;
+  int iMeshQuantStep = 1;          // the I meshes' quantiser step (im_quant_step), grid units
   bool inputTriangleOrder = true;  // the decoder outputs the input's triangle list
   // Attributes
   bool textureCoordinates = true;  // carry the input's texture coordinates

@@ -332,8 +332,8 @@ class GomCoder : public GomUnits {
   }
 
   void codeIMesh(size_t k, const IntMesh& input) {
-    IMeshEncoding i =
-        encodeIMesh(input, params_.gridBits, params_.dracoSpeed, params_.inputTriangleOrder);
+    IMeshEncoding i = encodeIMesh(input, params_.gridBits, params_.dracoSpeed,
+                                  params_.inputTriangleOrder, params_.iMeshQuantStep);
     // Draco does not keep vertices that no triangle uses; say so rather than drop them quietly.
     // Counted in the output order, not in Draco's vertices: the copies Draco makes of a
     // non-manifold vertex merge back into it there, and could hide a dropped vertex.
@@ -358,6 +358,7 @@ class GomCoder : public GomUnits {
                               "may predict poorly");
     IMeshUnit im;
     im.im_frame = static_cast<uint32_t>(first_ + k);
+    im.im_quant_step = static_cast<uint16_t>(i.quantStep);
     im.im_draco_payload = i.payload;
     out_.units.push_back({UnitType::kIMesh, serialise(std::move(im))});
     VertexOrderUnit vo;

@@ -77,7 +77,7 @@ size_t countUnmatched(const IntMesh& input, const IntMesh& decoded,
 }
 
 // The Draco mesh of `mesh`, each point its own position value.
-void fillDracoMesh(const IntMesh& mesh, draco::Mesh& dm) {
+void fillDracoMesh(const IntMesh& mesh, int quantStep, draco::Mesh& dm) {
   const uint32_t n = static_cast<uint32_t>(mesh.positions.size());
   dm.set_num_points(n);
   for (const Triangle& t : mesh.triangles)
@@ -86,8 +86,12 @@ void fillDracoMesh(const IntMesh& mesh, draco::Mesh& dm) {
   attribute.Init(draco::GeometryAttribute::POSITION, nullptr, 3, draco::DT_INT32, false,
                  sizeof(int32_t) * 3, 0);
   const int id = dm.AddAttribute(attribute, true, n);
-  for (uint32_t i = 0; i < n; ++i)
-    dm.attribute(id)->SetAttributeValue(draco::AttributeValueIndex(i), mesh.positions[i].data());
+  for (uint32_t i = 0; i < n; ++i) {
+    Vec3i q = mesh.positions[i];
+    for (int32_t& c : q)
+      c /= quantStep;  // exact: the positions are multiples of it
+    dm.attribute(id)->SetAttributeValue(draco::AttributeValueIndex(i), q.data());
+  }
 }
 
 // Draco's Edgebreaker encoder, run directly (draco::Encoder does the same with these options
@@ -348,11 +352,22 @@ MeshOrder inputOrder(const IntMesh& input, const IntMesh& decoded,
   return order;
 }
 
-IMeshEncoding encodeIMesh(const IntMesh& input, int gridBits, int dracoSpeed, bool triangleOrder) {
+int32_t iMeshQuantise(int32_t c, int gridBits, int quantStep) {
+  const int32_t largest = ((int32_t{1} << gridBits) - 1) / quantStep;
+  return std::min((c + quantStep / 2) / quantStep, largest);
+}
+
+IMeshEncoding encodeIMesh(const IntMesh& input, int gridBits, int dracoSpeed, bool triangleOrder,
+                          int quantStep) {
   // Draco cannot code triangles with a repeated vertex: they go to the VERTEX_ORDER unit, each
   // with the number of proper triangles before it in the input's list.
   IntMesh mesh;
   mesh.positions = input.positions;
+  // The I mesh the decoder makes (im_quant_step): the matching below compares with it.
+  if (quantStep > 1)
+    for (Vec3i& p : mesh.positions)
+      for (int32_t& c : p)
+        c = iMeshQuantise(c, gridBits, quantStep) * quantStep;
   std::vector<Triangle> degenerate;
   std::vector<uint32_t> properBefore;
   for (const Triangle& t : input.triangles)
@@ -364,11 +379,12 @@ IMeshEncoding encodeIMesh(const IntMesh& input, int gridBits, int dracoSpeed, bo
     }
   IMeshEncoding out;
   draco::Mesh dm;
-  fillDracoMesh(mesh, dm);
+  fillDracoMesh(mesh, quantStep, dm);
   std::vector<draco::CornerIndex> valueCorner;
   out.payload = encodeDraco(dm, dracoSpeed, valueCorner);
-  out.decoded = decodeIMesh(out.payload, gridBits, "encoder's own I mesh", 0,
-                            0);  // no mesh-memory limit: the encoder holds the mesh anyway
+  out.quantStep = quantStep;
+  // No mesh-memory limit: the encoder holds the mesh anyway.
+  out.decoded = decodeIMesh(out.payload, gridBits, "encoder's own I mesh", 0, 0, quantStep);
   out.inputIndex = exactVertexOrder(out.payload, valueCorner, mesh, out.decoded);
   if (out.inputIndex.empty())
     out.inputIndex = recoverVertexOrder(mesh, out.decoded, &out.unmatchedTriangles);

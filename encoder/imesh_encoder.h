@@ -41,6 +41,7 @@ constexpr uint32_t kMaxVertexTriangles = 4096;
 
 struct IMeshEncoding {
   std::vector<uint8_t> payload;       // im_draco_payload
+  int quantStep = 1;                  // im_quant_step
   IntMesh decoded;                    // what every decoder reconstructs
   std::vector<uint32_t> inputIndex;   // decoded vertex -> input vertex
   size_t unmatchedTriangles = 0;      // decoded triangles with no input twin (should be 0)
@@ -52,14 +53,21 @@ struct IMeshEncoding {
   DecodedAttributes attributes;       // the ATTRIBUTES unit's (set by the GOM coder)
 };
 
-// Encodes `mesh` (grid integers, coordinates < 2^gridBits) losslessly. `dracoSpeed` is Draco's
-// encoding/decoding speed option (0 = best compression, 10 = fastest). With `triangleOrder`
-// the output order keeps the input's triangle list, else the triangles come out in coding
-// order (vertices in the input's order either way). Triangles with a repeated vertex, which
+// Encodes `mesh` (grid integers, coordinates < 2^gridBits), losslessly unless `quantStep` > 1.
+// `dracoSpeed` is Draco's encoding/decoding speed option (0 = best compression, 10 = fastest). With
+// `triangleOrder` the output order keeps the input's triangle list, else the triangles come out in
+// coding order (vertices in the input's order either way). Triangles with a repeated vertex, which
 // Draco cannot code, are carried in the order (in place; after the others in coding order),
 // except one using a vertex no other triangle uses (Draco drops that vertex).
+// With `quantStep` > 1 the I mesh is coded coarser than the grid (im_quant_step): each
+// coordinate rounded to the nearest multiple of quantStep (at most 2^gridBits - 1), which
+// `decoded` holds; the vertex order is still the input's.
 IMeshEncoding encodeIMesh(const IntMesh& mesh, int gridBits, int dracoSpeed,
-                          bool triangleOrder = true);
+                          bool triangleOrder = true, int quantStep = 1);
+
+// The coordinate `c` (0 <= c < 2^gridBits) rounded to the nearest multiple of `quantStep` that
+// is at most 2^gridBits - 1, divided by quantStep: the value Draco codes (im_quant_step).
+int32_t iMeshQuantise(int32_t c, int gridBits, int quantStep);
 
 // The matcher (steps 1-3 above), exposed for tests: maps each vertex of `decoded` to a vertex of
 // `input`.

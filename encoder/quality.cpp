@@ -13,11 +13,23 @@ namespace tdvo {
 
 namespace {
 
+// What a candidate's trial codings add up to: per window, its I mesh (frame 0, with vertex
+// order and attributes) and its P meshes (frames 1 .. n-1), bits and squared distances.
+struct TrialSums {
+  double intraBits = 0, intraError = 0;  // summed over the windows
+  double interBits = 0, interError = 0;  // summed over the windows' P meshes
+  double windows = 0, interFrames = 0;
+  double lastError = 0;  // summed over the windows: the error of each window's last frame
+  double frames = 0;     // summed over the windows: their frames
+};
+
 struct Candidate {
   int gridBits = 0;
   int step = 1;
+  int iMeshStep = 1;  // IMeshQuantStep
   double j = std::numeric_limits<double>::infinity();
   double bits = 0, distortion = 0;  // extrapolated to the sequence
+  TrialSums sums;                   // what its trial codings measured
 };
 
 // The I meshes of a sequence of `frames` frames: one per random access point (the first GOM of
@@ -26,14 +38,6 @@ size_t randomAccessGoms(const EncoderParams& p, size_t frames) {
   if (p.pmeshMode == PMeshMode::kIntra) return frames;
   return p.randomAccessRuns(p.goms(frames).size()).size();
 }
-
-// What a candidate's trial codings add up to: per window, its I mesh (frame 0, with vertex
-// order and attributes) and its P meshes (frames 1 .. n-1), bits and squared distances.
-struct TrialSums {
-  double intraBits = 0, intraError = 0;  // summed over the windows
-  double interBits = 0, interError = 0;  // summed over the windows' P meshes
-  double windows = 0, interFrames = 0;
-};
 
 // Codes `frames` (one trial window) as one GOM with candidate `c` and adds its rate and
 // distortion to `sums`. Distances are in units of `unit` (Δ), so that J stays finite and ordered
@@ -45,6 +49,7 @@ void codeWindow(TrialSums& sums, const Candidate& c, const EncoderParams& params
   EncoderParams p = params;
   p.gridBits = c.gridBits;
   p.motionQuantStep = c.step;
+  p.iMeshQuantStep = c.iMeshStep;
   p.frameCount = static_cast<int>(frames.size());
   p.gomSize = static_cast<int>(frames.size());
   p.gomListFile.clear();
@@ -73,6 +78,8 @@ void codeWindow(TrialSums& sums, const Candidate& c, const EncoderParams& params
   for (size_t k = 1; k < frames.size(); ++k)
     sums.interError += frameError[k];
   sums.interFrames += static_cast<double>(frames.size() - 1);
+  sums.lastError += frameError.back();
+  sums.frames += static_cast<double>(frames.size());
 }
 
 // Candidate `c`'s rate and distortion over a sequence of `sequenceFrames` frames of which
@@ -169,6 +176,9 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
   const double target = bounds.spannedSize(p.gridFit) / std::exp2(precision);
   const bool intra = p.pmeshMode == PMeshMode::kIntra;
 
+  // The I meshes' step: as given, else 1 for the candidates, and the trial also tries the
+  // chosen one's quantiser step.
+  const bool iMeshStepSet = isSet("IMeshQuantStep");
   std::vector<Candidate> candidates;
   auto add = [&](int bits) {
     bits = std::clamp(bits, Grid::kMinBits, Grid::kMaxBits);
@@ -176,8 +186,11 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
       if (c.gridBits == bits) return;
     const Grid grid = gridFor(bounds, bits, p.gridFit);
     const double q = target > 0 ? std::round(target / grid.step) : 1.0;
-    candidates.push_back(
-        {bits, intra ? 1 : static_cast<int>(std::clamp(q, 1.0, double(kMaxMotionQuantStep)))});
+    Candidate c;
+    c.gridBits = bits;
+    c.step = intra ? 1 : static_cast<int>(std::clamp(q, 1.0, double(kMaxMotionQuantStep)));
+    c.iMeshStep = iMeshStepSet ? p.iMeshQuantStep : 1;
+    candidates.push_back(c);
   };
   // At least 8 bits (the grid's minimum): below that the candidates differ in the quantiser.
   const int base = std::max(static_cast<int>(std::lround(precision)), Grid::kMinBits);
@@ -188,7 +201,8 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
       add(base + extra);
   }
 
-  std::string measured, windowText, slopeText, stopped;
+  std::string measured, windowText, slopeText, roundedText, stopped;
+  int iMeshStep = candidates[0].iMeshStep;  // the chosen candidate's, or its quantiser step
   size_t best = 0;
   double lambda = 0;  // in units of Δ²
   if (candidates.size() > 1) {
@@ -207,10 +221,10 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
     // The sequence's I meshes, the same for every candidate (goms() reads a GOMListFile).
     const size_t intraFrames = std::min(randomAccessGoms(p, source.count), source.count);
     auto trial = [&](Candidate& c) {
-      TrialSums sums;
+      c.sums = TrialSums();
       for (size_t w = 0; w < windows.size(); ++w)
-        codeWindow(sums, c, p, bounds, frames[w], names[w], unit);
-      extrapolate(c, sums, intraFrames, source.count);
+        codeWindow(c.sums, c, p, bounds, frames[w], names[w], unit);
+      extrapolate(c, c.sums, intraFrames, source.count);
     };
     auto choose = [&](double slope) {
       best = 0;
@@ -232,7 +246,8 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
       lambda = target > 0 ? std::log(2.0) / 6.0 : 0.0;
       choose(lambda);
       if (lambda > 0 && candidates[best].step > 1) {
-        Candidate finer{candidates[best].gridBits, candidates[best].step / 2};
+        Candidate finer = candidates[best];
+        finer.step /= 2;
         trial(finer);
         const Candidate& at = candidates[best];
         char text[200];
@@ -245,12 +260,46 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
           choose(lambda);
         }
       }
+      // Then the chosen candidate's I mesh rounded to its quantiser step (IMeshQuantStep =
+      // MotionQuantStep), kept when it lowers J: it saves I-mesh bits, but the P meshes after
+      // it must correct its error, which pays at fine steps and not at coarse ones
+      // (docs/options.md). A window holds an I mesh and the frames after it, so its difference
+      // from the candidate's window counts once per I mesh of the sequence; what of the
+      // rounding the window's last frame (a keyframe) still carries is carried on to the
+      // frames after the window, counted at that frame's difference (no further bits).
+      if (!iMeshStepSet && candidates[best].step > 1) {
+        const Candidate& base = candidates[best];
+        Candidate rounded = base;
+        rounded.iMeshStep = rounded.step;
+        trial(rounded);
+        const TrialSums& b = base.sums;
+        const TrialSums& r = rounded.sums;
+        const double perIMesh = static_cast<double>(intraFrames) / b.windows;
+        const double after = std::max(
+            0.0, static_cast<double>(source.count) - perIMesh * b.frames);  // frames after them
+        rounded.bits =
+            base.bits + perIMesh * (r.intraBits + r.interBits - b.intraBits - b.interBits);
+        rounded.distortion =
+            base.distortion +
+            perIMesh * (r.intraError + r.interError - b.intraError - b.interError) +
+            after * (r.lastError - b.lastError) / b.windows;
+        rounded.j = rounded.distortion + lambda * rounded.bits;
+        char text[200];
+        std::snprintf(text, sizeof text,
+                      "; GridBits %d MotionQuantStep %d IMeshQuantStep %d: %.6g kbit, D %.6g, J "
+                      "%.6g",
+                      rounded.gridBits, rounded.step, rounded.iMeshStep, rounded.bits / 1000,
+                      rounded.distortion, rounded.j);
+        roundedText = text;
+        if (rounded.j < base.j) iMeshStep = rounded.iMeshStep;
+      }
     } catch (const Error& e) {
       // A window is coded as a GOM of its own, so an input error (a frame whose connectivity
       // differs from the others') would name the window's first frame as the GOM's. Each window
       // lies inside one GOM of the encode, which meets the same frames and says it with its own
       // GOM: the trial stops, its first candidate stands, and the report says why.
       best = 0;
+      iMeshStep = candidates[0].iMeshStep;
       stopped = e.what();
     }
     for (size_t i = 0; i < candidates.size() && stopped.empty(); ++i) {
@@ -265,6 +314,7 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
   }
   p.gridBits = candidates[best].gridBits;
   p.motionQuantStep = candidates[best].step;
+  p.iMeshQuantStep = iMeshStep;
   // Without B meshes (afxic, or BMeshGap 0): keyframes chosen by rate and distortion (never a
   // loss), unless the user chose them.
   if (!keyframeKeysSet(isSet) && p.bMeshGap == 0 && !intra) p.keyframeLambda = -1;
@@ -272,17 +322,19 @@ EncoderParams resolveQuality(const EncoderParams& params, const SequenceBounds& 
     char text[256];
     std::snprintf(text, sizeof text,
                   "Quality %d: %.1f bits over the %s (step %.6g): GridFit %s, GridBits %d, "
-                  "MotionQuantStep %d, Lambda %g, KeyframeLambda %g, BMeshGap %d",
+                  "MotionQuantStep %d, IMeshQuantStep %d, Lambda %g, KeyframeLambda %g, "
+                  "BMeshGap %d",
                   p.quality, precision, p.gridFit == GridFit::kObject ? "object" : "sequence",
                   target, p.gridFit == GridFit::kObject ? "object" : "sequence", p.gridBits,
-                  p.motionQuantStep, p.effectiveLambda(), p.keyframeLambda, p.bMeshGap);
+                  p.motionQuantStep, p.iMeshQuantStep, p.effectiveLambda(), p.keyframeLambda,
+                  p.bMeshGap);
     *report = text;
     if (!stopped.empty())
       *report += " (the trial, coding " + windowText + ", stopped: " + stopped + ")";
     if (!measured.empty()) {
       std::snprintf(text, sizeof text, "%.6g", lambda);
       *report += " (chosen by coding " + windowText + " with each candidate, J = D + " + text +
-                 " R: " + measured + slopeText + ")";
+                 " R: " + measured + slopeText + roundedText + ")";
     }
   }
   return p;

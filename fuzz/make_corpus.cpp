@@ -70,11 +70,16 @@ void copyTo(const fs::path& file, const fs::path& folder, const std::string& nam
 }
 
 template <class T>
-T parseUnit(const UnitView& unit) {
+void parseUnitInto(const UnitView& unit, T& value) {
   ByteReader reader(unit.payload, unit.size, unit.describe(), unit.payloadOffset);
-  T value;
   transfer(reader, value);
   reader.expectEnd("the structure");
+}
+
+template <class T>
+T parseUnit(const UnitView& unit) {
+  T value;
+  parseUnitInto(unit, value);
   return value;
 }
 
@@ -85,16 +90,20 @@ int extractPayloads(const fs::path& streamPath, const fs::path& out) {
   UnitReader units(stream.data(), stream.size(), streamPath.string());
   UnitView unit;
   GomHeader gh;
+  uint16_t syntaxVersion = kSyntaxVersion;
   int written = 0;
   while (units.next(unit)) {
     const std::string name = stem + "-unit" + std::to_string(unit.index);
     if (unit.type == static_cast<uint8_t>(UnitType::kGomHeader)) {
       gh = parseUnit<GomHeader>(unit);
     } else if (unit.type == static_cast<uint8_t>(UnitType::kSequenceHeader)) {
-      if (!parseUnit<SequenceHeader>(unit).cameras.empty())
-        copyTo(streamPath, out / "texture", streamPath.filename().string());
+      const SequenceHeader sh = parseUnit<SequenceHeader>(unit);
+      syntaxVersion = sh.sh_syntax_version;
+      if (!sh.cameras.empty()) copyTo(streamPath, out / "texture", streamPath.filename().string());
     } else if (unit.type == static_cast<uint8_t>(UnitType::kIMesh)) {
-      const IMeshUnit im = parseUnit<IMeshUnit>(unit);
+      IMeshUnit im;
+      im.syntaxVersion = syntaxVersion;
+      parseUnitInto(unit, im);
       write(out / "imesh" / (name + ".draco"), im.im_draco_payload);
       write(out / "draco" / (name + ".draco"), im.im_draco_payload);
       ++written;

@@ -580,13 +580,38 @@ TEST(Syntax, GomHeaderRoundTrip) {
 TEST(Syntax, IMeshAndPMeshUnitRoundTrip) {
   IMeshUnit im;
   im.im_frame = 7;
+  im.im_quant_step = 0x0203;
   im.im_draco_payload = payloadOf(300, 5);
   std::vector<uint8_t> bytes = write(im);
-  ASSERT_EQ(bytes.size(), 304u);
+  ASSERT_EQ(bytes.size(), 306u);
   EXPECT_EQ(bytes[0], 7);
+  EXPECT_EQ(bytes[4], 0x03);  // im_quant_step, u16 little-endian, after im_frame
+  EXPECT_EQ(bytes[5], 0x02);
   IMeshUnit imBack = read<IMeshUnit>(bytes);
   EXPECT_EQ(imBack.im_frame, 7u);
+  EXPECT_EQ(imBack.im_quant_step, 0x0203);
   EXPECT_EQ(imBack.im_draco_payload, im.im_draco_payload);
+  // Before syntax version 5 there is no im_quant_step: it is 1 and the payload follows im_frame.
+  IMeshUnit v4;
+  v4.syntaxVersion = 4;
+  v4.im_quant_step = 9;  // not written
+  v4.im_frame = 7;
+  v4.im_draco_payload = im.im_draco_payload;
+  bytes = write(v4);
+  ASSERT_EQ(bytes.size(), 304u);
+  IMeshUnit v4Back;
+  v4Back.syntaxVersion = 4;
+  ByteReader reader(bytes.data(), bytes.size(), "v4", 0);
+  transfer(reader, v4Back);
+  EXPECT_EQ(v4Back.im_quant_step, 1);
+  EXPECT_EQ(v4Back.im_draco_payload, im.im_draco_payload);
+  // Its range: 1 .. 4096.
+  for (uint16_t step : {0, 4097}) {
+    std::vector<uint8_t> bad = write(im);
+    bad[4] = static_cast<uint8_t>(step & 0xFF);
+    bad[5] = static_cast<uint8_t>(step >> 8);
+    EXPECT_NE(errorOf([&] { read<IMeshUnit>(bad); }).find("im_quant_step"), std::string::npos);
+  }
 
   PMeshUnit pm;
   pm.pm_frame = 123456;

@@ -136,7 +136,8 @@ TEST(Quality, ChoosesTheCandidateOfLeastJAndReachesTheTargetStep) {
     if (r.params.gridBits > Grid::kMinBits) {
       EXPECT_NEAR(grid.step * r.params.motionQuantStep / target, 1.0, 0.35) << r.report;
     }
-    // The report lists each candidate; the chosen one has the least J.
+    // The report lists each candidate (and the chosen one with its I meshes rounded to its
+    // step, "IMeshQuantStep s"); the chosen one has the least J.
     EXPECT_NE(r.report.find("GridBits " + std::to_string(r.params.gridBits)), std::string::npos);
     double least = 1e300, chosen = -1;
     for (size_t at = r.report.find(", J ", r.report.find(" R: ")); at != std::string::npos;
@@ -144,8 +145,12 @@ TEST(Quality, ChoosesTheCandidateOfLeastJAndReachesTheTargetStep) {
       const double j = std::stod(r.report.substr(at + 4));
       const size_t name = r.report.rfind("GridBits ", at);
       const int bits = std::stoi(r.report.substr(name + 9));
+      const std::string entry = r.report.substr(name, at - name);
+      const size_t rounded = entry.find("IMeshQuantStep ");
+      const int iMeshStep =
+          rounded == std::string::npos ? 1 : std::stoi(entry.substr(rounded + 15));
       least = std::min(least, j);
-      if (bits == r.params.gridBits) chosen = j;
+      if (bits == r.params.gridBits && iMeshStep == r.params.iMeshQuantStep) chosen = j;
     }
     ASSERT_LT(least, 1e300) << r.report;  // a trial was made
     EXPECT_EQ(chosen, least) << r.report;
@@ -253,6 +258,47 @@ TEST(Quality, HigherQualityIsAFinerStep) {
     EXPECT_LT(step, previous) << "Quality " << q << ": " << r.report;
     previous = step;
   }
+}
+
+// After λ, the chosen candidate is coded once more with its I meshes rounded to its quantiser
+// step (IMeshQuantStep = MotionQuantStep), kept when its J is lower; not tried at step 1 or
+// when the user set IMeshQuantStep.
+TEST(Quality, TriesTheIMeshRoundedToTheQuantiserStep) {
+  const std::vector<Mesh> frames = walkingBlob(20, 0.02);
+  bool tried = false;
+  for (int q : {20, 40, 60, 80}) {
+    const Resolved r = resolve(frames, q);
+    const size_t at =
+        r.report.find(" IMeshQuantStep " + std::to_string(r.params.motionQuantStep) + ": ");
+    if (r.params.motionQuantStep == 1) {
+      EXPECT_EQ(at, std::string::npos) << r.report;
+      EXPECT_EQ(r.params.iMeshQuantStep, 1);
+      continue;
+    }
+    ASSERT_NE(at, std::string::npos) << r.report;
+    const double roundedJ = numberAfter(r.report, "J ", at);
+    // The base: the entry of the chosen grid among the candidates (before the slope's coding).
+    const size_t base =
+        r.report.find("GridBits " + std::to_string(r.params.gridBits) + " MotionQuantStep " +
+                      std::to_string(r.params.motionQuantStep) + ": ");
+    ASSERT_LT(base, r.report.find("; slope")) << r.report;
+    const double baseJ = numberAfter(r.report, "J ", base);
+    EXPECT_EQ(r.params.iMeshQuantStep, roundedJ < baseJ ? r.params.motionQuantStep : 1) << r.report;
+    tried = true;
+    // The chosen parameters are the encode's: its summary line says IMeshQuantStep.
+    EXPECT_NE(r.report.find("IMeshQuantStep " + std::to_string(r.params.iMeshQuantStep) + ","),
+              std::string::npos)
+        << r.report;
+  }
+  EXPECT_TRUE(tried);  // not vacuous: some Quality chose a step above 1
+  // Set by the user: kept, and not tried.
+  EncoderParams p;
+  p.iMeshQuantStep = 3;
+  const Resolved r = resolve(frames, 60, {"IMeshQuantStep"}, p);
+  EXPECT_EQ(r.params.iMeshQuantStep, 3);
+  EXPECT_EQ(r.report.find(" IMeshQuantStep " + std::to_string(r.params.motionQuantStep) + ": "),
+            std::string::npos)
+      << r.report;
 }
 
 TEST(Quality, KeysTheUserSetAreKept) {

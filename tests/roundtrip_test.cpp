@@ -13,6 +13,7 @@
 #include "bitstream/units.h"
 #include "common/core/error.h"
 #include "common/core/md5.h"
+#include "decoder/imesh_decoder.h"
 #include "decoder/stream_decoder.h"
 #include "encoder/imesh_encoder.h"
 #include "encoder/sequence_encoder.h"
@@ -184,6 +185,46 @@ TEST(DuplicatePositions, DracoRoundTripOfTheSeam) {
   for (size_t j = 0; j < coded.inputIndex.size(); ++j)
     EXPECT_EQ(coded.decoded.positions[j], input.positions[coded.inputIndex[j]]);
   EXPECT_EQ(decodedAsInput(coded.decoded, coded.inputIndex), canonicalSorted(input.triangles));
+}
+
+// IMeshQuantStep (im_quant_step): the I mesh rounded to multiples of the step, at most
+// 2^gridBits - 1, in the input's vertex order, decoded alike by the decoder, and smaller.
+TEST(IMeshQuantStep, RoundsToMultiplesOfTheStepInTheInputsOrder) {
+  EXPECT_EQ(iMeshQuantise(4095, 12, 4), 1023);  // 4096 would leave the grid: 4092
+  EXPECT_EQ(iMeshQuantise(4095, 12, 2), 2047);
+  EXPECT_EQ(iMeshQuantise(4094, 12, 3), 1365);  // 4095
+  EXPECT_EQ(iMeshQuantise(5, 12, 4), 1);
+  EXPECT_EQ(iMeshQuantise(6, 12, 4), 2);  // ties round up
+  EXPECT_EQ(iMeshQuantise(0, 12, 7), 0);
+  const std::vector<Mesh> frames = seamSheet(10, 8, 4, 1, false);
+  const Grid grid = gridForSequence(frames, 12);
+  const IntMesh input = grid.quantise(frames[0]);
+  const IMeshEncoding lossless = encodeIMesh(input, 12, 0);
+  for (int step : {3, 4, 7}) {
+    SCOPED_TRACE("step " + std::to_string(step));
+    const IMeshEncoding coded = encodeIMesh(input, 12, 0, true, step);
+    EXPECT_EQ(coded.quantStep, step);
+    EXPECT_EQ(coded.unmatchedTriangles, 0u);
+    EXPECT_EQ(coded.inputIndex, lossless.inputIndex);
+    EXPECT_EQ(coded.orderPayload, lossless.orderPayload);
+    ASSERT_EQ(coded.decoded.positions.size(), input.positions.size());
+    for (size_t j = 0; j < coded.inputIndex.size(); ++j)
+      for (int a = 0; a < 3; ++a) {
+        const int32_t c = input.positions[coded.inputIndex[j]][a];
+        const int32_t d = coded.decoded.positions[j][a];
+        EXPECT_EQ(d, iMeshQuantise(c, 12, step) * step);
+        // The nearest multiple, unless that is past the grid's last point 4095.
+        EXPECT_LE(std::abs(d - c), d + step > 4095 ? step - 1 : step / 2);
+      }
+    EXPECT_EQ(decodeIMesh(coded.payload, 12, "x", 0, 0, step).positions, coded.decoded.positions);
+    EXPECT_LT(coded.payload.size(), lossless.payload.size());
+  }
+  // Draco's values times the step must stay on the grid: the lossless payload's values reach
+  // 4095, more than 4095 / 2.
+  EXPECT_NE(test::errorOf([&] {
+              decodeIMesh(lossless.payload, 12, "x", 0, 0, 2);
+            }).find("outside the grid [0, 2047] (divided by im_quant_step 2)"),
+            std::string::npos);
 }
 
 // An edge used by three triangles, two of them in the same direction (0->1), and a triangle

@@ -91,7 +91,10 @@ def main(argv):
         "16 (fitted to the object) x `MotionQuantStep` 1 .. 64 with B meshes as Quality codes them "
         "(`BMeshGap` 8, automatic `BMeshQuantStep`, `BMeshLambdaGrowth` 2; cfg/rd/geometry-hull.toml). Excess: the point's rate over the hull's rate at "
         "the same KG error, minus 1 (negative: below the hull, which the trial's finer choice of "
-        "the quantiser can reach).",
+        "the quantiser can reach). The sweep's I meshes are lossless on the grid "
+        "(`IMeshQuantStep` 1); Quality's trial may round them to the quantiser step "
+        "(docs/options.md, \"Quality\"), which the sweep does not try: a point so coded can lie "
+        "below the hull by what that saves.",
         "",
         "```sh",
         "tools/rd/3dvo-rd run cfg/rd/geometry-hull.toml",
