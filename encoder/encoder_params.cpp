@@ -169,7 +169,8 @@ void EncoderParams::registerOptions(OptionTable& t) {
   t.derivedWhenUnset("GridBits", byQuality + "; setting it codes by hand");
   t.derivedWhenUnset("MotionQuantStep", byQuality + "; setting it codes by hand");
   t.derivedWhenUnset("IMeshQuantStep",
-                     "Quality's trial chooses 1 or MotionQuantStep unless Quality is -1");
+                     "with Quality on, P meshes and GridBits and MotionQuantStep not set, "
+                     "Quality's trial chooses 1 or MotionQuantStep");
   const std::string keyframes =
       "unless a keyframe key is set, Quality chooses the keyframes: by BMeshGap with d3dmc, "
       "else by rate and distortion";

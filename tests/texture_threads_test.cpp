@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -83,7 +84,7 @@ struct Encoded {
 };
 
 // GOMs of 4 frames (so GOMs run in parallel too, and the last one is shorter), 8 cameras.
-Encoded encode(int threads) {
+Encoded encode(int threads, const std::function<void(EncoderParams&)>& tweak = {}) {
   const Rig& r = rig();
   EncoderParams params;
   params.dataset = r.dataset.folder;
@@ -91,6 +92,7 @@ Encoded encode(int threads) {
   params.gomSize = 4;
   params.texturePreset = "fast";
   params.threads = threads;
+  if (tweak) tweak(params);
   TextureEncoder textures(params, r.dataset, r.frames);
   Encoded e;
   e.stream = encodeSequence(
@@ -192,6 +194,19 @@ TEST(TextureThreads, DecoderOutputIsTheSameForAnyThreadCountAndEqualsTheEncoders
     EXPECT_EQ(d.lines, e.calls.lines) << "Threads=" << threads;
     EXPECT_TRUE(d.onCallingThread) << "Threads=" << threads;
   }
+}
+
+// Intra GOMs whose I meshes are coarser than the grid (im_quant_step 3): the texture pass
+// decodes each I mesh again from the payload it kept, with its step, and so makes the
+// encoder's shapes (with step 1 the mesh would be a third of its size, and its shapes others).
+TEST(TextureThreads, IntraIMeshQuantStepShapesAreTheEncoders) {
+  const Encoded e = encode(1, [](EncoderParams& p) {
+    p.pmeshMode = PMeshMode::kIntra;
+    p.iMeshQuantStep = 3;
+  });
+  ASSERT_EQ(e.calls.lines.size(), 10u + 10u * 8u * 2u);
+  EXPECT_EQ(decode(e.stream, 1).lines, e.calls.lines);
+  EXPECT_EQ(decode(e.stream, 2).lines, e.calls.lines);
 }
 
 // The stream's units, to damage one and write them back.
