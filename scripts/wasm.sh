@@ -30,10 +30,21 @@ if [ ! -d "$deps/src/draco" ] || [ ! -d "$deps/src/zlib" ] || [ ! -d "$deps/src/
     sed 's/^Types:.*/Types: deb-src/' /etc/apt/sources.list.d/debian.sources \
       >/etc/apt/sources.list.d/debian-src.sources
   fi
-  if ! (cd "$deps/src" && apt-get source --download-only draco zlib libmd >/dev/null 2>&1); then
-    apt-get update -qq
-    (cd "$deps/src" && apt-get source --download-only draco zlib libmd >/dev/null)
-  fi
+  # The newest source of each (a security update's, when there is one); a mirror that lacks
+  # it (seen: debian-security's zlib 1.2.13.dfsg-1+deb12u1 answered 404) gets the release's.
+  release="$(. /etc/os-release && echo "$VERSION_CODENAME")"
+  fetch() { (cd "$deps/src" && apt-get source --download-only "$1" >/dev/null 2>&1); }
+  updated=0
+  for package in draco zlib libmd; do
+    fetch "$package" && continue
+    if [ "$updated" = 0 ]; then
+      apt-get update -qq
+      updated=1
+      fetch "$package" && continue
+    fi
+    echo "wasm.sh: the newest source of $package cannot be fetched; using $release's" >&2
+    (cd "$deps/src" && apt-get source --download-only "$package/$release" >/dev/null)
+  done
   for package in draco zlib libmd; do
     rm -rf "$deps/src/$package"
     dsc="$(ls "$deps/src/${package}"_*.dsc | head -n1)"
