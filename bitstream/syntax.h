@@ -286,6 +286,11 @@ void transfer(Io& io, GomHeader& gh) {
 // im_quant_step (syntax version 5; 1 before): the decoded positions are Draco's values times
 // im_quant_step, so an I mesh can be coded coarser than the grid.
 constexpr uint16_t kMinIMeshQuantStepSyntaxVersion = 5;
+// The largest value Draco's POSITION attribute may hold: the largest grid integer divided by
+// im_quant_step, rounded down (the encoder clamps to it, the decoder rejects what exceeds it).
+constexpr int32_t iMeshMaxValue(int gridBits, int imQuantStep) {
+  return ((int32_t{1} << gridBits) - 1) / imQuantStep;
+}
 struct IMeshUnit {
   uint16_t syntaxVersion = kSyntaxVersion;  // not coded: the stream's, set before reading
   uint32_t im_frame = 0;

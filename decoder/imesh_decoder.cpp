@@ -33,7 +33,7 @@ IntMesh decodeIMesh(const std::vector<uint8_t>& payload, int gridBits, const std
   IntMesh mesh;
   mesh.positions.resize(numPoints);
   // Draco's values are the grid integers divided by quantStep (im_quant_step).
-  const int32_t maxCoordinate = ((int32_t{1} << gridBits) - 1) / quantStep;
+  const int32_t maxCoordinate = iMeshMaxValue(gridBits, quantStep);
   for (uint32_t i = 0; i < numPoints; ++i) {
     Vec3i& p = mesh.positions[i];
     if (!position->ConvertValue<int32_t>(position->mapped_index(draco::PointIndex(i)), 3, p.data()))

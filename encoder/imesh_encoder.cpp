@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "bitstream/syntax.h"
 #include "common/core/error.h"
 #include "decoder/imesh_decoder.h"
 
@@ -353,8 +354,7 @@ MeshOrder inputOrder(const IntMesh& input, const IntMesh& decoded,
 }
 
 int32_t iMeshQuantise(int32_t c, int gridBits, int quantStep) {
-  const int32_t largest = ((int32_t{1} << gridBits) - 1) / quantStep;
-  return std::min((c + quantStep / 2) / quantStep, largest);
+  return std::min((c + quantStep / 2) / quantStep, iMeshMaxValue(gridBits, quantStep));
 }
 
 IMeshEncoding encodeIMesh(const IntMesh& input, int gridBits, int dracoSpeed, bool triangleOrder,

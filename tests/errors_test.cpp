@@ -1077,6 +1077,24 @@ CATALOGUE_TEST(I17) {
       << lifted.err;
 }
 
+CATALOGUE_TEST(I18) {
+  // im_quant_step follows im_frame (4 bytes).
+  std::vector<Unit> units = baseUnits();
+  putU16(units[2].payload, 4, 0);
+  expectUnitsRow("I18", units);
+  units = baseUnits();
+  putU16(units[2].payload, 4, 4097);
+  expectUnitsRow("I18", units);
+}
+
+CATALOGUE_TEST(I19) {
+  // The base I mesh's lossless values (10-bit grid) read as multiples of 4: those above
+  // (2^10 - 1) / 4 = 255 would leave the grid once multiplied.
+  std::vector<Unit> units = baseUnits();
+  putU16(units[2].payload, 4, 4);
+  expectUnitsRow("I19", units);
+}
+
 // ---- Vertex order ----
 
 // A VERTEX_ORDER unit for frame 0 (triangle list coded) with `bins` as its CABAC payload, each
