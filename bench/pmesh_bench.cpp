@@ -26,8 +26,8 @@
 //
 // Conditions: d3dmc-lossless (MotionQuantStep 1, Lambda 0), d3dmc-lossy (MotionQuantStep 8,
 // automatic Lambda), afxic (AFX-IC-style reference, MotionQuantStep 1), all on the sequence's
-// 12-bit grid; and for PMeshDecode quality-50: the grid (fitted to the object), quantiser and
-// Lambda that the default Quality (50) chooses for the sequence.
+// 12-bit grid; and for PMeshDecode quality-50: the grid (fitted to the object), quantiser, Lambda
+// and I-mesh step (IMeshQuantStep) that the default Quality (50) chooses for the sequence.
 //
 //   build/bin/pmesh_bench --benchmark_filter=PMeshDecode
 #include <benchmark/benchmark.h>
@@ -65,7 +65,8 @@ struct Condition {
   int gridBits;
   GridFit fit;
   int quantStep;
-  double lambda;  // -1: automatic
+  double lambda;           // -1: automatic
+  int iMeshQuantStep = 1;  // the I meshes' im_quant_step (IMeshQuantStep)
 };
 const Condition kConditions[] = {
     {"d3dmc-lossless", PMeshMode::kD3dmc, kGridBits, GridFit::kSequence, 1, 0},
@@ -81,6 +82,7 @@ EncoderParams encoderParams(const Condition& c, const BenchSequence& s) {
   p.pmeshMode = c.mode;
   p.motionQuantStep = c.quantStep;
   p.lambda = c.lambda;
+  p.iMeshQuantStep = c.iMeshQuantStep;
   return p;
 }
 
@@ -106,13 +108,14 @@ struct Gom {
 const Gom& gomOf(const BenchSequence& s, const Condition& c) {
   static std::map<std::string, std::unique_ptr<Gom>> cache;
   std::unique_ptr<Gom>& g = cache[s.name + "/" + std::to_string(c.gridBits) +
-                                  (c.fit == GridFit::kObject ? "/object" : "/sequence")];
+                                  (c.fit == GridFit::kObject ? "/object" : "/sequence") + "/" +
+                                  std::to_string(c.iMeshQuantStep)];
   if (g) return *g;
   g = std::make_unique<Gom>();
   const std::vector<Mesh>& frames = framesOf(s);
   g->grid = gridForSequence(frames, c.gridBits, c.fit);
   const IntMesh first = g->grid.quantise(frames[0]);
-  g->iMesh = encodeIMesh(first, g->grid.bits, 0);
+  g->iMesh = encodeIMesh(first, g->grid.bits, 0, true, c.iMeshQuantStep);
   g->topology = GomTopology::build(g->iMesh.decoded);
   g->targets.push_back(g->iMesh.decoded.positions);
   for (size_t f = 1; f < frames.size(); ++f) {
@@ -425,9 +428,9 @@ void streamEncode(benchmark::State& state, const BenchSequence& s, const Conditi
 }
 
 // The condition the default Quality (50) chooses for a sequence: the grid (fitted to the
-// object), quantiser and Lambda of resolveQuality(), found once per sequence on first use (its
-// trial codes a few windows of the frames). Its P meshes are coded as every condition's are: every frame a
-// P mesh of the one before (a keyframe subset only skips frames), closed loop.
+// object), quantiser, Lambda and I-mesh step of resolveQuality(), found once per sequence on first
+// use (its trial codes a few windows of the frames). Its P meshes are coded as every condition's
+// are: every frame a P mesh of the one before (a keyframe subset only skips frames), closed loop.
 const Condition& qualityCondition(const BenchSequence& s) {
   static std::map<std::string, Condition> cache;
   const auto found = cache.find(s.name);
@@ -440,7 +443,8 @@ const Condition& qualityCondition(const BenchSequence& s) {
   defaults.gomSize = s.gomSize;
   const EncoderParams p = resolveQuality(defaults, boundsOfSequence(frames), source,
                                          [](const std::string&) { return false; });
-  const Condition c{"quality-50", p.pmeshMode, p.gridBits, p.gridFit, p.motionQuantStep, p.lambda};
+  const Condition c{"quality-50",      p.pmeshMode, p.gridBits,      p.gridFit,
+                    p.motionQuantStep, p.lambda,    p.iMeshQuantStep};
   return cache.emplace(s.name, c).first->second;
 }
 
@@ -448,7 +452,8 @@ void pmeshDecodeQuality(benchmark::State& state, const BenchSequence& s) {
   const Condition& c = qualityCondition(s);
   pmeshDecode(state, s, c);
   state.SetLabel("vertex-frames/s, GridBits " + std::to_string(c.gridBits) + " MotionQuantStep " +
-                 std::to_string(c.quantStep));
+                 std::to_string(c.quantStep) + " IMeshQuantStep " +
+                 std::to_string(c.iMeshQuantStep));
 }
 
 // GomDecode/<variant>/<seq>: the geometry of every GOM (GOMSize of cfg/per-sequence) as the
@@ -537,7 +542,8 @@ void gomDecode(benchmark::State& state, const BenchSequence& s, bool bMeshes) {
   state.counters["bits/vertex"] = 8.0 * double(coded.bytes) / double(coded.vertexFrames);
   const Condition& c = qualityCondition(s);
   state.SetLabel("vertex-frames/s, GridBits " + std::to_string(c.gridBits) + " MotionQuantStep " +
-                 std::to_string(c.quantStep) +
+                 std::to_string(c.quantStep) + " IMeshQuantStep " +
+                 std::to_string(c.iMeshQuantStep) +
                  (bMeshes ? ", B meshes: BMeshGap " + std::to_string(kQualityBMeshGap) +
                                 " BMeshQuantStep " + std::to_string(2 * c.quantStep)
                           : ", every frame a keyframe"));
