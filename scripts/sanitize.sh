@@ -6,8 +6,8 @@
 # error, leaks included), so its test fails. -O2 runs the suite several times faster than -O0
 # (docs/robustness.md). The conformance re-encoding tests compare this build's streams byte for
 # byte with the committed ones, which a Release (-O3) build made. Each GoogleTest executable is
-# one ctest test (TDVO_TEST_PER_SUITE): its cases run in one process, whose output names the
-# case that failed.
+# one ctest test (TDVO_TEST_PER_SUITE): its cases run in one process; a sanitizer report ends it
+# there, and a leak is reported at its exit, naming no case (rerun it with --gtest_filter).
 #
 #   TDVO_SANITIZE_SKIP      GoogleTest cases left out (a negative --gtest_filter list, ':' between
 #                           patterns); default: the real-data acceptance tests, which take most of

@@ -515,8 +515,7 @@ TEST(DecoderApi, ArrivingStreamGomStartsErrors) {
 // tdvo::Encoder with frames from memory makes the very stream (and MD5 lines) 3dvo-enc made from
 // the files, for every conformance cfg (textured ones included).
 TEST(EncoderApi, FramesFromMemoryGiveTheConformanceStreams) {
-  const fs::path before = fs::current_path();
-  fs::current_path(kConformance);  // the cfgs' paths are relative to it
+  const WorkingDirectory cwd(kConformance);  // the cfgs' paths are relative to it
   int streams = 0;
   for (const auto& entry : fs::directory_iterator("cfg")) {
     ++streams;
@@ -534,7 +533,6 @@ TEST(EncoderApi, FramesFromMemoryGiveTheConformanceStreams) {
     std::vector<std::string> expected = lines(readText("streams/" + name + ".md5"));
     EXPECT_EQ(coded.md5Lines, expected);
   }
-  fs::current_path(before);
   EXPECT_GE(streams, 12);
 }
 

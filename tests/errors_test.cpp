@@ -1077,22 +1077,25 @@ CATALOGUE_TEST(I17) {
       << lifted.err;
 }
 
+// im_quant_step follows im_frame (4 bytes).
 CATALOGUE_TEST(I18) {
-  // im_quant_step follows im_frame (4 bytes).
   std::vector<Unit> units = baseUnits();
   putU16(units[2].payload, 4, 0);
-  expectUnitsRow("I18", units);
-  units = baseUnits();
-  putU16(units[2].payload, 4, 4097);
   expectUnitsRow("I18", units);
 }
 
 CATALOGUE_TEST(I19) {
+  std::vector<Unit> units = baseUnits();
+  putU16(units[2].payload, 4, 4097);
+  expectUnitsRow("I19", units);
+}
+
+CATALOGUE_TEST(I20) {
   // The base I mesh's lossless values (10-bit grid) read as multiples of 4: those above
   // (2^10 - 1) / 4 = 255 would leave the grid once multiplied.
   std::vector<Unit> units = baseUnits();
   putU16(units[2].payload, 4, 4);
-  expectUnitsRow("I19", units);
+  expectUnitsRow("I20", units);
 }
 
 // ---- Vertex order ----

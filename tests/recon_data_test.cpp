@@ -37,10 +37,10 @@ ReconParams paramsFromCfg(const std::string& name, const std::vector<std::string
   OptionTable table("recon_data_test", "");
   addReconOptions(table, params);
   // Paths in the shipped cfg files are relative to the repository root.
-  const fs::path previous = fs::current_path();
-  fs::current_path(TDVO_SOURCE_DIR);
-  table.parseFile(std::string("cfg/recon/") + name);
-  fs::current_path(previous);
+  {
+    const test::WorkingDirectory cwd(TDVO_SOURCE_DIR);
+    table.parseFile(std::string("cfg/recon/") + name);
+  }
   if (!params.input.empty() && fs::path(params.input).is_relative())
     params.input = (fs::path(TDVO_SOURCE_DIR) / params.input).string();
   for (const std::string& o : overrides) {

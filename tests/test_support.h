@@ -58,6 +58,26 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+// The process's working folder set to `to` for the guard's lifetime, and restored when it ends,
+// also when the code under test throws: the cases of one suite may share a process
+// (TDVO_TEST_PER_SUITE), so a case must not leave the next in its folder.
+class WorkingDirectory {
+ public:
+  explicit WorkingDirectory(const std::filesystem::path& to)
+      : previous_(std::filesystem::current_path()) {
+    std::filesystem::current_path(to);
+  }
+  ~WorkingDirectory() {
+    std::error_code ignored;
+    std::filesystem::current_path(previous_, ignored);
+  }
+  WorkingDirectory(const WorkingDirectory&) = delete;
+  WorkingDirectory& operator=(const WorkingDirectory&) = delete;
+
+ private:
+  std::filesystem::path previous_;
+};
+
 // The Draco payload `p` (Edgebreaker) with its connectivity counts replaced: 11 header bytes,
 // the traversal type, then num_encoded_vertices, num_faces, num_attribute_data,
 // num_encoded_symbols, num_encoded_split_symbols (varints) and the rest, kept.
