@@ -25,7 +25,7 @@ void EncoderParams::registerOptions(OptionTable& t) {
         "first missing input file (or the dataset's last frame)");
   t.add("FrameRate", frameRate, 0.001, 1000,
         "frames per second (rate figures, stream header); not set: the Dataset's frames.rate, "
-        "else 25");
+        "or a glTF animation's evenly spaced key times, else 25");
   t.section("Quality");
   t.add("Quality", quality, -1, 100,
         "one knob for the geometry's rate and precision, 0 (coarsest) .. 100 (finest): a "
@@ -163,7 +163,8 @@ void EncoderParams::registerOptions(OptionTable& t) {
   // effective configuration prints them as comments while unset, so that read back as a cfg
   // file it gives the same run.
   t.derivedWhenUnset("FirstFrame", "with a Dataset, its frames.first");
-  t.derivedWhenUnset("FrameRate", "with a Dataset, its frames.rate");
+  t.derivedWhenUnset("FrameRate",
+                     "with a Dataset, its frames.rate; with a glTF animation, its key times");
   const std::string byQuality = "chosen by Quality unless Quality is -1";
   t.derivedWhenUnset("GridFit", byQuality);
   t.derivedWhenUnset("GridBits", byQuality + "; setting it codes by hand");

@@ -72,6 +72,26 @@ int main(int argc, char** argv) {
                 " is past the animation's last frame " + std::to_string(frames - 1));
       std::printf("# input frames: %d of the %lld keyframes of %s\n", params.frameCount,
                   static_cast<long long>(frames), params.inputMeshPattern.c_str());
+      // FrameRate not set: the key times' rate when they are evenly spaced, which the stream
+      // then carries (and a decoded animation file's key times); else the default, said.
+      if (!encoder.wasSet("FrameRate") && params.frameCount > 1) {
+        const size_t first = static_cast<size_t>(params.firstFrame);
+        const size_t count = static_cast<size_t>(params.frameCount);
+        if (const std::optional<double> rate = animation->keyRate(first, count)) {
+          encoder.options().set("FrameRate", formatDouble(*rate),
+                                params.inputMeshPattern + " key times");
+          params.frameRate = encoder.params().frameRate;
+          std::printf("# FrameRate: %s (the key times of %s)\n",
+                      formatDouble(params.frameRate).c_str(), params.inputMeshPattern.c_str());
+        } else {
+          warn(params.inputMeshPattern + ": the key times of keyframes " + std::to_string(first) +
+               " .. " + std::to_string(first + count - 1) + " are not evenly spaced (" +
+               formatDouble(animation->frameTime(first)) + " s to " +
+               formatDouble(animation->frameTime(first + count - 1)) +
+               " s): the frames are coded one every 1/FrameRate s, FrameRate " +
+               formatDouble(params.frameRate) + " (not set); set FrameRate");
+        }
+      }
     }
     // FrameCount not set: every frame from FirstFrame until the first missing file.
     std::string found;

@@ -157,16 +157,25 @@ SequenceBounds boundsOfSequence(
     const std::function<void(size_t frame, const Mesh& mesh)>& inspect) {
   // One fold, frame after frame in order, so the result is the same bit for bit for any
   // `threads`.
+  // The readers' warnings are held and said in frame order too (the first file that has a
+  // kind of warning is the one named, common/core/warnings.h).
+  struct Read {
+    Mesh mesh;
+    std::vector<HeldWarning> warnings;
+  };
   BoundsFold fold;
-  orderedParallelFor<Mesh>(
+  orderedParallelFor<Read>(
       source.count, threads, 2 * static_cast<size_t>(threads),
       [&](size_t k) {
-        Mesh mesh = source.read(k);
-        if (inspect) inspect(k, mesh);
-        return mesh;
+        WarningHold hold;
+        Read read{source.read(k), {}};
+        if (inspect) inspect(k, read.mesh);
+        read.warnings = hold.release();
+        return read;
       },
-      [&](size_t k, Mesh& mesh) {
-        fold.add(mesh);
+      [&](size_t k, Read& read) {
+        say(read.warnings);
+        fold.add(read.mesh);
         if (onFrameRead) onFrameRead(k);
       });
   return fold.finish(source.count, [&source](size_t k) {

@@ -24,6 +24,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "bitstream/attributes_syntax.h"
@@ -873,8 +874,71 @@ TEST(EncoderWarnings, OnceAndSilencedScopes) {
   EXPECT_EQ(count, 65538u);
 }
 
+// warnForFile: inside a scope the first file's message of a kind is said, the other files'
+// are counted (a file said twice counts once) and summed up when the outermost scope ends;
+// outside a scope every message is said.
+TEST(EncoderWarnings, PerFileWarningsAreSummedUp) {
+  std::vector<std::string> said;
+  const WarningHandler before =
+      setWarningHandler([&](const std::string& message) { said.push_back(message); });
+  {
+    WarnOnceScope once;
+    warnForFile("k", "f0: k");
+    warnForFile("k", "f1: k");
+    warnForFile("k", "f1: k");
+    {
+      WarnOnceScope inner;
+      warnForFile("k", "f2: k");
+      warnForFile("j", "f2: j");
+    }
+    EXPECT_EQ(said, (std::vector<std::string>{"f0: k", "f2: j"}));
+  }
+  warnForFile("k", "f0: k");
+  warnForFile("k", "f1: k");
+  setWarningHandler(before);
+  EXPECT_EQ(said,
+            (std::vector<std::string>{"f0: k", "f2: j", "k: the same in 2 more files or frames",
+                                      "f0: k", "f1: k"}));
+}
+
+// A WarningHold keeps a thread's warnings (and nothing of other threads'), say() says them in
+// order, as the calls would have; silenced warnings are not kept.
+TEST(EncoderWarnings, HeldWarningsAreSaidInOrder) {
+  std::vector<std::string> said;
+  const WarningHandler before =
+      setWarningHandler([&](const std::string& message) { said.push_back(message); });
+  {
+    WarnOnceScope once;
+    std::vector<HeldWarning> first, second;
+    std::thread other([&] {
+      WarningHold hold;
+      warnForFile("k", "f1: k");
+      warn("b");
+      second = hold.release();
+    });
+    {
+      WarningHold hold;
+      warnForFile("k", "f0: k");
+      {
+        SilenceWarningsScope quiet;
+        warn("quiet");
+      }
+      warn("a");
+      other.join();
+      first = hold.release();
+    }
+    EXPECT_TRUE(said.empty());
+    say(first);
+    say(second);
+  }
+  setWarningHandler(before);
+  EXPECT_EQ(said,
+            (std::vector<std::string>{"f0: k", "a", "b", "k: the same in 1 more file or frame"}));
+}
+
 // 3dvo-enc reads the first frames more than once (the bounds pass, Quality's trial, the coding):
-// what the reader leaves out of a file is said once per file.
+// what the reader leaves out of a file is said once, for the first file, and the number of other
+// files it holds for at the end.
 TEST(EncoderWarnings, AFileReadMoreThanOnceWarnsOnce) {
   TempDir dir("warn-once");
   std::filesystem::create_directories(dir.path() / "w");
@@ -885,13 +949,18 @@ TEST(EncoderWarnings, AFileReadMoreThanOnceWarnsOnce) {
   const CommandResult r =
       test::run(dir, kBin + "/3dvo-enc", {"--InputMeshPattern=w/%04d.obj", "-o", "w.3dvo"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  for (int k = 0; k < 6; ++k) {
-    const std::string line = "w/000" + std::to_string(k) + ".obj:1: values after x y z";
-    size_t count = 0;
+  const auto count = [&](const std::string& line) {
+    size_t n = 0;
     for (size_t at = r.err.find(line); at != std::string::npos; at = r.err.find(line, at + 1))
-      ++count;
-    EXPECT_EQ(count, 1u) << line << "\n" << r.err;
-  }
+      ++n;
+    return n;
+  };
+  EXPECT_EQ(count("w/0000.obj:1: values after x y z"), 1u) << r.err;
+  EXPECT_EQ(count(".obj:1: values after x y z"), 1u) << r.err;
+  EXPECT_EQ(count("values after x y z on 'v' lines (w, or vertex colours) are left out: the "
+                  "same in 5 more files or frames"),
+            1u)
+      << r.err;
 }
 
 CATALOGUE_TEST(G13) {

@@ -182,6 +182,19 @@ TEST(Ply, WhatIsNotReadIsSaid) {
   said.clear();
   parsePly(formatPly(test::wobblingSphere(1, 1)[0], PlyEncoding::kAscii), "plain.ply");
   EXPECT_TRUE(said.empty());
+  // Meshlab's texture link (a comment, the one listed) and a quad split into two triangles.
+  const Mesh quad = parsePly(
+      "ply\nformat ascii 1.0\ncomment VCGLIB generated\ncomment TextureFile skin.png\n"
+      "element vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n4 0 1 2 3\n",
+      "quad.ply");
+  EXPECT_EQ(quad.triangles, (std::vector<Triangle>{{0, 1, 2}, {0, 1, 2}, {0, 2, 3}}));
+  EXPECT_EQ(said, (std::vector<std::string>{
+                      "quad.ply: left out (not read): the texture image's name (comment "
+                      "TextureFile, header line 4)",
+                      "quad.ply:17: faces with more than three corners are split into triangles "
+                      "(a fan from each face's first corner) (first)"}));
   setWarningHandler(before);
 }
 
@@ -189,7 +202,8 @@ TEST(Ply, WhatIsNotReadIsSaid) {
 
 // A glTF model made with tinygltf's own API and writer (not ours): `frames` frames as a base mesh
 // plus one morph target per further frame, with a STEP weights animation (or none).
-std::string tinygltfMorphFile(const std::vector<Mesh>& frames, bool binary, bool animate) {
+std::string tinygltfMorphFile(const std::vector<Mesh>& frames, bool binary, bool animate,
+                              float rate = 25.0f) {
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.buffers.resize(1);
@@ -262,7 +276,7 @@ std::string tinygltfMorphFile(const std::vector<Mesh>& frames, bool binary, bool
     const size_t t = frames.size() - 1;
     std::vector<float> times, weights(frames.size() * t, 0.0f);
     for (size_t f = 0; f < frames.size(); ++f) {
-      times.push_back(static_cast<float>(f) / 25.0f);
+      times.push_back(static_cast<float>(f) / rate);
       if (f > 0) weights[f * t + f - 1] = 1.0f;
     }
     tinygltf::AnimationSampler s;
@@ -679,8 +693,90 @@ TEST(Gltf, NodesAndChannelsCountInTheFrameWork) {
             std::string::npos);
 }
 
+// What a glTF file holds that no frame takes is said in one warning per file (materials,
+// textures and images, other vertex attributes, animations after the first, extensions used);
+// an animated file read as one frame (a per-frame pattern) says its other keyframes are left.
+TEST(Gltf, WhatIsNotReadIsSaid) {
+  std::vector<std::string> said;
+  const WarningHandler before =
+      setWarningHandler([&](const std::string& message) { said.push_back(message); });
+  nlohmann::json j = nlohmann::json::parse(formatGltf(tetrahedron(), GltfContainer::kGltf));
+  frameOf(j);
+  EXPECT_TRUE(said.empty()) << said[0];
+  j["materials"] = {{{"name", "skin"}}, {{"name", "cloth"}}};
+  j["images"] = {{{"uri", "skin.png"}}};
+  j["textures"] = {{{"source", 0}}};
+  j["meshes"][0]["primitives"][0]["material"] = 0;
+  j["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] =
+      addFloatAccessor(j, std::vector<float>(12, 0.5f), "VEC3", 4);
+  j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] =
+      addFloatAccessor(j, std::vector<float>(8, 0.5f), "VEC2", 4);
+  j["extensionsUsed"] = {"KHR_materials_unlit"};
+  frameOf(j);
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_EQ(said[0],
+            "t.gltf: left out (3DVO codes positions, NORMAL and TEXCOORD_0): 2 materials; 1 "
+            "texture; 1 image; vertex attributes COLOR_0, TEXCOORD_1; the extensions used "
+            "KHR_materials_unlit");
+  said.clear();
+  // Two animations: the second is said; read as one frame of a pattern, the keyframes too.
+  test::TempDir dir("gltf-left-out");
+  const std::vector<Mesh> frames = test::wobblingSphere(1, 3);
+  test::writeText(dir.file("a.glb"), tinygltfMorphFile(frames, true, true));
+  expectClose(frames[0], readMesh(dir.file("a.glb")), 1e-5, "keyframe 0");
+  EXPECT_EQ(said, (std::vector<std::string>{
+                      dir.file("a.glb") +
+                      ": an animated glTF file read as one frame: its first keyframe is read, "
+                      "the others are left out (a pattern without %d reads one file's keyframes "
+                      "as the frames) (3 keyframes)"}));
+  said.clear();
+  j = nlohmann::json::parse(formatGltf(tetrahedron(), GltfContainer::kGltf));
+  const int times = addFloatAccessor(j, {0.0f, 1.0f}, "SCALAR", 2);
+  const int moves = addFloatAccessor(j, {0, 0, 0, 1, 0, 0}, "VEC3", 2);
+  const nlohmann::json animation = {
+      {"samplers", {{{"input", times}, {"output", moves}}}},
+      {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}}};
+  j["animations"] = {animation, animation};
+  const std::string text = j.dump();
+  EXPECT_EQ(GltfFile(std::vector<uint8_t>(text.begin(), text.end()), "t.gltf").frameCount(), 2u);
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_EQ(said[0],
+            "t.gltf: left out (3DVO codes positions, NORMAL and TEXCOORD_0): animations 1 .. 1 "
+            "(animation 0 is read)");
+  setWarningHandler(before);
+}
+
 // KHR_mesh_quantization positions (SHORT, 8-byte stride) without indices: 6 vertices in 48
 // bytes are read (a bound of 12 bytes per vertex refused them).
+// The key times' frame rate: evenly spaced keys give it (whole numbers and the NTSC rates as
+// such, from float32 times), uneven ones or a single frame none.
+TEST(Gltf, KeyRate) {
+  const auto fileWithTimes = [](const std::vector<float>& t) {
+    nlohmann::json j = nlohmann::json::parse(formatGltf(tetrahedron(), GltfContainer::kGltf));
+    const int times = addFloatAccessor(j, t, "SCALAR", t.size());
+    const int moves = addFloatAccessor(j, std::vector<float>(3 * t.size(), 0.0f), "VEC3", t.size());
+    j["animations"] = {
+        {{"samplers", {{{"input", times}, {"output", moves}}}},
+         {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}}}};
+    const std::string text = j.dump();
+    return GltfFile(std::vector<uint8_t>(text.begin(), text.end()), "t.gltf");
+  };
+  std::vector<float> thirtieths, ntsc;
+  for (int k = 0; k < 300; ++k) {
+    thirtieths.push_back(static_cast<float>(k) / 30.0f);
+    ntsc.push_back(static_cast<float>(k * 1001.0 / 30000.0));
+  }
+  EXPECT_EQ(fileWithTimes(thirtieths).keyRate(0, 300), 30.0);
+  EXPECT_EQ(fileWithTimes(thirtieths).keyRate(100, 2), 30.0);
+  EXPECT_EQ(fileWithTimes(ntsc).keyRate(0, 300), 30000.0 / 1001.0);
+  EXPECT_EQ(fileWithTimes({0.0f, 2.0f, 4.0f}).keyRate(0, 3), 0.5);
+  EXPECT_EQ(fileWithTimes({0.0f, 0.1f, 2.0f}).keyRate(0, 3), std::nullopt);
+  EXPECT_EQ(fileWithTimes({0.0f, 0.1f, 2.0f}).keyRate(0, 2), 10.0);
+  EXPECT_EQ(fileWithTimes({0.0f, 0.1f}).keyRate(0, 1), std::nullopt);
+  EXPECT_EQ(fileWithTimes({0.0f, 0.1f}).keyRate(1, 2), std::nullopt);
+  EXPECT_EQ(fileWithTimes({0.0f, 0.0001f}).keyRate(0, 2), std::nullopt);  // 10,000 frames/s
+}
+
 TEST(Gltf, QuantizedPositionsWithoutIndices) {
   std::string bytes(48, '\0');
   const int16_t p[6][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 0}};
@@ -864,6 +960,22 @@ TEST(FormatsApps, MorphTargetGlbAsEncoderInput) {
                 .exitCode,
             0);
   EXPECT_EQ(readPly(dir.file("r0006.ply")).positions, readObj(dir.file("r0006.obj")).positions);
+  // FrameRate not set: the key times' rate (25 above, the default's value; 30 here) is the
+  // stream's; set, it is kept.
+  EXPECT_NE(enc.out.find("# FrameRate: 25 (the key times of seq.glb)"), std::string::npos)
+      << enc.out;
+  test::writeText(dir.file("seq30.glb"), tinygltfMorphFile(frames, true, true, 30.0f));
+  const test::CommandResult at30 =
+      test::run(dir, kBin + "/3dvo-enc", {"--InputMeshPattern=seq30.glb", "-o", "z.3dvo"});
+  ASSERT_EQ(at30.exitCode, 0) << at30.err;
+  EXPECT_NE(at30.out.find("# FrameRate: 30 (the key times of seq30.glb)"), std::string::npos)
+      << at30.out;
+  EXPECT_NE(at30.out.find("frame rate          : 30\n"), std::string::npos) << at30.out;
+  const test::CommandResult set = test::run(
+      dir, kBin + "/3dvo-enc", {"--InputMeshPattern=seq30.glb", "--FrameRate=24", "-o", "w.3dvo"});
+  ASSERT_EQ(set.exitCode, 0) << set.err;
+  EXPECT_EQ(set.out.find("# FrameRate:"), std::string::npos) << set.out;
+  EXPECT_NE(set.out.find("frame rate          : 24\n"), std::string::npos) << set.out;
 }
 
 // A sequence file's frames are named by their keyframe in the encoder's messages (one file

@@ -377,7 +377,7 @@ TEST(ObjIo, AttributesLeftOutAreSaid) {
   const Mesh unused = parseObj("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1 2 3\n", "unused.obj");
   EXPECT_TRUE(unused.attributes.normals.empty());
   ASSERT_EQ(said.size(), 1u);
-  EXPECT_EQ(said[0], "unused.obj: its 1 normals are used by no face: left out");
+  EXPECT_EQ(said[0], "unused.obj: normals used by no face: left out (1 normal)");
   said.clear();
   const Mesh full = parseObj("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n", "full.obj");
   EXPECT_EQ(full.attributes.uvs.size(), 1u);
@@ -390,6 +390,27 @@ TEST(ObjIo, AttributesLeftOutAreSaid) {
   EXPECT_EQ(said[0],
             "coloured.obj:2: values after x y z on 'v' lines (w, or vertex colours) are left out "
             "(this line and any other)");
+  said.clear();
+  // Statements 3DVO does not code (a Blender export's materials, object name and smoothing):
+  // one warning naming each with the first line that has it.
+  const Mesh blender = parseObj(
+      "# Blender\nmtllib cube.mtl\no Cube\nv 0 0 0\nv 1 0 0\nv 0 1 0\ns 0\nusemtl Mat\n"
+      "f 1 2 3\no Other\ng part\nf 1 3 2\n",
+      "blender.obj");
+  EXPECT_EQ(blender.triangles.size(), 2u);
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_EQ(said[0],
+            "blender.obj:2: statements 3DVO does not code (mtllib, usemtl, o, g, s: materials, "
+            "names, groups, smoothing) are left out of the decoded frames (first: 'mtllib' line "
+            "2, 'usemtl' line 8, 'o' line 3, 'g' line 11, 's' line 7)");
+  said.clear();
+  // Polygons are split into fans, said once with the first one's line.
+  const Mesh quads =
+      parseObj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 2 3 4\nf 4 3 2 1\n", "q.obj");
+  EXPECT_EQ(quads.triangles.size(), 5u);
+  EXPECT_EQ(said, (std::vector<std::string>{"q.obj:6: faces with more than three corners are "
+                                            "split into triangles (a fan from each face's first "
+                                            "corner) (first)"}));
   setWarningHandler(before);
 }
 

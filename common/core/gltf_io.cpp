@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 #include <string_view>
+#include <tuple>
 #include <utility>
 
 #include "common/core/error.h"
@@ -525,6 +526,62 @@ struct GltfFile::Impl {
       fail(what + ": matrix is not affine (its last row is not 0 0 0 1)");
   }
 
+  // What the file holds that no frame takes (materials and images, vertex attributes other than
+  // POSITION, NORMAL and TEXCOORD_0, animations after the first and channels of the first on
+  // other properties, extensions used), in one warning (common/core/warnings.h). Names, cameras,
+  // lights and extras are not listed.
+  void warnLeftOut() const {
+    std::vector<std::string> parts;
+    const auto count = [&](size_t n, const char* what) {
+      if (n > 0) parts.push_back(std::to_string(n) + " " + what);
+    };
+    count(model.materials.size(), model.materials.size() == 1 ? "material" : "materials");
+    count(model.textures.size(), model.textures.size() == 1 ? "texture" : "textures");
+    count(model.images.size(), model.images.size() == 1 ? "image" : "images");
+    std::set<std::string> attributes;
+    for (int n : meshNodes)
+      for (const tinygltf::Primitive& prim :
+           model.meshes[static_cast<size_t>(meshOf(n))].primitives) {
+        for (const auto& [attribute, accessor] : prim.attributes)
+          if (attribute != "POSITION" && attribute != "NORMAL" && attribute != "TEXCOORD_0")
+            attributes.insert(attribute);
+        for (const auto& target : prim.targets)
+          for (const auto& [attribute, accessor] : target)
+            if (attribute != "POSITION" && attribute != "NORMAL")
+              attributes.insert("morph target " + attribute);
+      }
+    if (!attributes.empty()) {
+      std::string list;
+      for (const std::string& a : attributes)
+        list += (list.empty() ? "" : ", ") + a;
+      parts.push_back("vertex attributes " + list);
+    }
+    if (model.animations.size() > 1)
+      parts.push_back("animations 1 .. " + std::to_string(model.animations.size() - 1) +
+                      " (animation 0 is read)");
+    std::set<std::string> paths;  // animation 0's channels on what no frame shows
+    if (!model.animations.empty())
+      for (const tinygltf::AnimationChannel& ch : model.animations[0].channels)
+        if (ch.target_path != "weights" && ch.target_path != "translation" &&
+            ch.target_path != "rotation" && ch.target_path != "scale")
+          paths.insert(ch.target_path.empty() ? "(none)" : ch.target_path);
+    if (!paths.empty()) {
+      std::string list;
+      for (const std::string& path : paths)
+        list += (list.empty() ? "" : ", ") + path;
+      parts.push_back("animation 0's channels on " + list);
+    }
+    std::string extensions;
+    for (const std::string& e : model.extensionsUsed)
+      if (e != "KHR_mesh_quantization") extensions += (extensions.empty() ? "" : ", ") + e;
+    if (!extensions.empty()) parts.push_back("the extensions used " + extensions);
+    if (parts.empty()) return;
+    std::string what = "left out (3DVO codes positions, NORMAL and TEXCOORD_0): ";
+    for (size_t i = 0; i < parts.size(); ++i)
+      what += (i == 0 ? "" : "; ") + parts[i];
+    warnForFile(what, name + ": " + what);
+  }
+
   void load() {
     // Extensions that change what accessors hold (Draco or meshopt compression) are not read;
     // quantized positions (KHR_mesh_quantization) are plain accessors of integer types.
@@ -538,6 +595,7 @@ struct GltfFile::Impl {
       for (size_t m = 0; m < model.meshes.size(); ++m)
         meshNodes.push_back(-1 - static_cast<int>(m));
     if (meshNodes.empty()) fail("no meshes");
+    warnLeftOut();
     if (model.animations.empty()) return;
     animated = true;
     const tinygltf::Animation& anim = model.animations[0];
@@ -785,12 +843,13 @@ struct GltfFile::Impl {
         someNormals |= prim.attributes.count("NORMAL") > 0;
       }
     // What is dropped is said (common/core/warnings.h).
-    if (someUvs && !uvs)
-      warn(name + ": frame " + std::to_string(k) +
-           ": TEXCOORD_0 given by only some primitives: left out");
-    if (someNormals && !normals)
-      warn(name + ": frame " + std::to_string(k) +
-           ": NORMAL given by only some primitives: left out");
+    for (const auto& [some, all, attribute] :
+         {std::tuple{someUvs, uvs, "TEXCOORD_0"}, std::tuple{someNormals, normals, "NORMAL"}})
+      if (some && !all) {
+        const std::string what =
+            std::string(attribute) + " given by only some primitives: left out";
+        warnForFile(what, name + ": frame " + std::to_string(k) + ": " + what);
+      }
     for (const Shown& s : shown) {
       const tinygltf::Mesh& m = model.meshes[static_cast<size_t>(s.mesh)];
       for (size_t p = 0; p < m.primitives.size(); ++p) {
@@ -941,6 +1000,14 @@ std::unique_ptr<GltfFile::Impl> parseGltf(const std::vector<uint8_t>& bytes,
     if (!files.error.empty()) throw Error(name + ": buffer: " + files.error);
     throw Error(name + ": glTF: " + firstLine(err.empty() ? "cannot be read" : err));
   }
+  // What tinygltf itself warns about (e.g. properties it does not know) is passed on.
+  for (size_t at = 0; at < warn.size();) {
+    const size_t end = std::min(warn.find('\n', at), warn.size());
+    if (end > at)
+      tdvo::warnForFile("glTF: " + warn.substr(at, end - at),
+                        name + ": glTF: " + warn.substr(at, end - at));
+    at = end + 1;
+  }
   impl->inputBytes = bytes.size();
   impl->load();
   return impl;
@@ -987,6 +1054,26 @@ double GltfFile::frameTime(size_t k) const {
   return impl_->animated ? impl_->times.at(k) : 0.0;
 }
 
+std::optional<double> GltfFile::keyRate(size_t first, size_t count) const {
+  if (count < 2 || first + count > frameCount()) return std::nullopt;
+  const double t0 = frameTime(first);
+  const double spacing = (frameTime(first + count - 1) - t0) / static_cast<double>(count - 1);
+  if (!(spacing > 0)) return std::nullopt;
+  for (size_t k = 1; k + 1 < count; ++k)
+    if (std::abs(frameTime(first + k) - t0 - static_cast<double>(k) * spacing) > 1e-3 * spacing)
+      return std::nullopt;
+  const double rate = 1 / spacing;
+  if (!(rate >= 0.001 && rate <= 1000)) return std::nullopt;
+  // Key times are float32: 30 frames/s is 29.99999... from them.
+  for (const double denominator : {1.0, 1001.0}) {
+    const double numerator = denominator == 1 ? 1.0 : 1000.0;
+    const double whole = std::round(rate * denominator / numerator);
+    const double nice = whole * numerator / denominator;
+    if (whole >= 1 && std::abs(rate - nice) <= 1e-5 * rate) return nice;
+  }
+  return rate;
+}
+
 Mesh GltfFile::frame(size_t k) const {
   if (k >= frameCount())
     throw Error(impl_->name + ": frame " + std::to_string(k) + " is not in the file (" +
@@ -995,7 +1082,17 @@ Mesh GltfFile::frame(size_t k) const {
 }
 
 Mesh readGltf(const std::string& path) {
-  return GltfFile(path).frame(0);
+  const GltfFile file(path);
+  Mesh first = file.frame(0);  // its errors before the warning
+  if (file.frameCount() > 1) {
+    const std::string what =
+        "an animated glTF file read as one frame: its first keyframe is "
+        "read, the others are left out (a pattern without %d reads one "
+        "file's keyframes as the frames)";
+    warnForFile(what,
+                path + ": " + what + " (" + std::to_string(file.frameCount()) + " keyframes)");
+  }
+  return first;
 }
 
 // ---- Writing ----

@@ -25,6 +25,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,11 @@ class GltfFile {
   double frameTime(size_t k) const;
   // Frame k (k < frameCount()). Throws Error naming the file and the part at fault.
   Mesh frame(size_t k) const;
+  // The frame rate of frames first .. first + count - 1 when their key times are evenly spaced
+  // (each within a thousandth of the spacing of its place), in (0, 1000] frames per second: a
+  // whole number, or one over 1.001 (29.97 = 30000 / 1001 ...), when within 10^-5 of one, else
+  // 1 / spacing; nothing for fewer than two frames or uneven key times.
+  std::optional<double> keyRate(size_t first, size_t count) const;
 
   struct Impl;  // the parsed file (gltf_io.cpp)
 

@@ -19,6 +19,12 @@ using Vec3i = std::array<int32_t, 3>;
 // Vertex indices of one triangle, counter-clockwise seen from outside.
 using Triangle = std::array<uint32_t, 3>;
 
+// What the OBJ and PLY readers say (a warning, common/core/warnings.h) when a file has a face of
+// more than three corners: every mesh is a triangle mesh.
+inline constexpr char kPolygonsSplit[] =
+    "faces with more than three corners are split into triangles (a fan from each face's first "
+    "corner)";
+
 using Vec2f = std::array<float, 2>;
 using Vec3f = std::array<float, 3>;
 

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <string_view>
 
 #include "common/core/error.h"
@@ -54,16 +55,19 @@ class ObjParser {
     MeshAttributes& at = mesh_.attributes;
     if (!finishAttribute(uv_, at.uvs.size(), at.uvTriangles)) at.uvs.clear();
     if (!finishAttribute(normal_, at.normals.size(), at.normalTriangles)) at.normals.clear();
-    if (extraVertexValuesLine_ > 0)
-      warn(name_ + ":" + std::to_string(extraVertexValuesLine_) +
-           ": values after x y z on 'v' lines (w, or vertex colours) are left out (this line "
-           "and any other)");
-    if (extraUvValuesLine_ > 0)
-      warn(name_ + ":" + std::to_string(extraUvValuesLine_) +
-           ": values after u v on 'vt' lines (w) are left out (this line and any other)");
-    if (extraNormalValuesLine_ > 0)
-      warn(name_ + ":" + std::to_string(extraNormalValuesLine_) +
-           ": values after x y z on 'vn' lines are left out (this line and any other)");
+    const auto leftOut = [&](size_t line, const std::string& what) {
+      if (line > 0)
+        warnForFile(
+            what, name_ + ":" + std::to_string(line) + ": " + what + " (this line and any other)");
+    };
+    leftOut(extraVertexValuesLine_,
+            "values after x y z on 'v' lines (w, or vertex colours) are left out");
+    leftOut(extraUvValuesLine_, "values after u v on 'vt' lines (w) are left out");
+    leftOut(extraNormalValuesLine_, "values after x y z on 'vn' lines are left out");
+    warnSkippedStatements();
+    if (firstPolygonLine_ > 0)
+      warnForFile(kPolygonsSplit, name_ + ":" + std::to_string(firstPolygonLine_) + ": " +
+                                      kPolygonsSplit + " (first)");
     if (mesh_.positions.empty()) throw Error(name_ + ": no vertices");
     if (mesh_.triangles.empty()) throw Error(name_ + ": no faces");
     // Triangles with a repeated vertex are kept here (the encoder drops them, with a warning),
@@ -76,6 +80,35 @@ class ObjParser {
   }
 
  private:
+  // Statements read and left out (materials, names, groups, smoothing, free-form parameters):
+  // 3DVO codes positions, texture coordinates and normals.
+  static constexpr const char* kSkippedStatements[] = {"mtllib", "usemtl", "o", "g", "s", "vp"};
+  static size_t skippedStatement(std::string_view keyword) {
+    size_t k = 0;
+    while (k < std::size(kSkippedStatements) && keyword != kSkippedStatements[k])
+      ++k;
+    return k;
+  }
+
+  // One warning for the statements left out, each with the first line that has it.
+  void warnSkippedStatements() const {
+    std::string kinds, lines;
+    size_t first = 0;
+    for (size_t k = 0; k < std::size(kSkippedStatements); ++k) {
+      if (skippedLine_[k] == 0) continue;
+      const std::string sep = kinds.empty() ? "" : ", ";
+      kinds += sep + kSkippedStatements[k];
+      lines += sep + "'" + kSkippedStatements[k] + "' line " + std::to_string(skippedLine_[k]);
+      if (first == 0 || skippedLine_[k] < first) first = skippedLine_[k];
+    }
+    if (kinds.empty()) return;
+    const std::string what = "statements 3DVO does not code (" + kinds +
+                             ": materials, names, groups, smoothing) are left out of the "
+                             "decoded frames";
+    warnForFile(what,
+                name_ + ":" + std::to_string(first) + ": " + what + " (first: " + lines + ")");
+  }
+
   // The largest 0-based index of one kind (vertex, texture coordinate or normal) the faces
   // gave so far, and the line where it first appeared: checked against the number of values
   // of that kind once the whole file is read (values may come after the faces using them).
@@ -163,6 +196,7 @@ class ObjParser {
         attributeIndex(normal_, vn, tokens[i], mesh_.attributes.normals.size());
       }
       if (firstFaceLine_ == 0) firstFaceLine_ = lineNumber_;
+      if (corners_.size() > 3 && firstPolygonLine_ == 0) firstPolygonLine_ = lineNumber_;
       for (size_t i = 1; i + 1 < corners_.size(); ++i) {
         mesh_.triangles.push_back({corners_[0], corners_[i], corners_[i + 1]});
         properTriangles_ += corners_[0] != corners_[i] && corners_[i] != corners_[i + 1] &&
@@ -171,9 +205,9 @@ class ObjParser {
           if (a->state == 1)
             a->triangles.push_back({a->corners[0], a->corners[i], a->corners[i + 1]});
       }
-    } else if (keyword == "vp" || keyword == "o" || keyword == "g" || keyword == "s" ||
-               keyword == "mtllib" || keyword == "usemtl") {
-      // Not geometry 3DVO codes.
+    } else if (const size_t k = skippedStatement(keyword); k < std::size(kSkippedStatements)) {
+      // Not geometry 3DVO codes: left out, and said (warnSkippedStatements).
+      if (skippedLine_[k] == 0) skippedLine_[k] = lineNumber_;
     } else {
       fail("unsupported statement '" + std::string(keyword) + "'");
     }
@@ -223,15 +257,18 @@ class ObjParser {
   // for it (what there is of it is then dropped: a mesh has it at every corner or not at all).
   bool finishAttribute(Attribute& a, size_t count, std::vector<Triangle>& triangles) {
     // What is dropped is said (common/core/warnings.h).
+    const std::string kind = a.what;
+    std::string what;
     if (a.state == 3)
-      warn(name_ + ": " + a.what + "s given by only some face corners: left out (a mesh has " +
-           "them at every corner or not at all)");
+      what = kind + "s given by only some face corners: left out (a mesh has them at every " +
+             "corner or not at all)";
     else if (a.state == 1 && count == 0)
-      warn(name_ + ": faces give " + a.what + " indices, but the file has no " + a.what +
-           " values: left out");
+      what = "faces give " + kind + " indices, but the file has no " + kind + " values: left out";
     else if (a.state == 2 && count > 0)
-      warn(name_ + ": its " + std::to_string(count) + " " + a.what +
-           "s are used by no face: " + "left out");
+      what = kind + "s used by no face: left out";
+    if (!what.empty())
+      warnForFile(what, name_ + ": " + what +
+                            (a.state == 2 ? " (" + countOf(count, a.what) + ")" : std::string()));
     if (a.state != 1 || count == 0) return false;
     checkLargest(a.largest, count, a.what);
     triangles = std::move(a.triangles);
@@ -293,6 +330,8 @@ class ObjParser {
   size_t lineNumber_ = 0;
   LargestIndex largest_;  // of the vertex indices
   size_t firstFaceLine_ = 0;
+  size_t firstPolygonLine_ = 0;  // the first face with more than three corners
+  size_t skippedLine_[std::size(kSkippedStatements)] = {};  // first line of each, 0: none
   size_t extraVertexValuesLine_ = 0;  // the first 'v' line with more than x y z
   size_t extraUvValuesLine_ = 0;      // the first 'vt' line with more than u v
   size_t extraNormalValuesLine_ = 0;  // the first 'vn' line with more than x y z

@@ -159,6 +159,8 @@ class PlyParser {
     if (properTriangles_ == 0)
       throw Error(name_ + firstFaceWhere_ +
                   ": every face has a repeated vertex (degenerate): no triangle is left to code");
+    if (!firstPolygonWhere_.empty())
+      warnForFile(kPolygonsSplit, name_ + firstPolygonWhere_ + ": " + kPolygonsSplit + " (first)");
     return std::move(mesh_);
   }
 
@@ -204,7 +206,13 @@ class PlyParser {
     }
     if (tokens_.empty()) return;
     const std::string_view keyword = tokens_[0];
-    if (keyword == "comment" || keyword == "obj_info") return;
+    if (keyword == "comment" || keyword == "obj_info") {
+      // Meshlab's link to the texture image: the one comment a user would miss.
+      if (keyword == "comment" && tokens_.size() > 1 && tokens_[1] == "TextureFile" &&
+          textureFileLine_ == 0)
+        textureFileLine_ = n;
+      return;
+    }
     if (keyword == "format") {
       if (formatSeen_) failLine(n, "a second format line");
       if (tokens_.size() != 3) failLine(n, "format needs an encoding and a version");
@@ -336,7 +344,11 @@ class PlyParser {
                 std::to_string(e.count) + (e.count == 1 ? " record)" : " records)");
       }
     }
-    if (!list.empty()) warn(name_ + ": left out (not read): " + list);
+    if (textureFileLine_ > 0)
+      list += std::string(list.empty() ? "" : "; ") + "the texture image's name (comment " +
+              "TextureFile, header line " + std::to_string(textureFileLine_) + ")";
+    if (!list.empty())
+      warnForFile("left out (not read): " + list, name_ + ": left out (not read): " + list);
   }
 
   // Checks the element declared last, once its properties are known.
@@ -514,6 +526,7 @@ class PlyParser {
     if (mesh_.triangles.size() + (count - 2) > kMaxPlyTriangles)
       failHere("more than " + std::to_string(kMaxPlyTriangles) + " triangles");
     if (firstFaceWhere_.empty()) firstFaceWhere_ = here();
+    if (count > 3 && firstPolygonWhere_.empty()) firstPolygonWhere_ = here();
     for (size_t i = 1; i + 1 < corners_.size(); ++i) {
       mesh_.triangles.push_back({corners_[0], corners_[i], corners_[i + 1]});
       properTriangles_ += corners_[0] != corners_[i] && corners_[i] != corners_[i + 1] &&
@@ -669,6 +682,8 @@ class PlyParser {
   uint32_t maxIndex_ = 0;
   bool maxIndexKnown_ = false;
   std::string maxIndexWhere_, firstFaceWhere_;
+  std::string firstPolygonWhere_;  // the first face with more than three corners
+  size_t textureFileLine_ = 0;     // the first 'comment TextureFile' header line
   size_t properTriangles_ = 0;
 };
 

@@ -1,6 +1,7 @@
 #include "common/core/warnings.h"
 
 #include <cstdio>
+#include <map>
 #include <mutex>
 #include <set>
 #include <string>
@@ -25,7 +26,20 @@ struct OnceState {
   int depth = 0;
   int silenced = 0;  // open SilenceWarningsScopes
   std::set<std::string> said;
+  // warnForFile kinds said during the outermost scope -> the files' messages not said.
+  std::map<std::string, size_t> kinds;
 };
+
+// At most this many distinct messages and kinds are remembered: past them, messages are said
+// every time, so a long run's distinct warnings cannot grow the memory without bound.
+constexpr size_t kRemembered = 1 << 16;
+
+void sayNow(const std::string& message) {
+  if (handler())
+    handler()(message);
+  else
+    std::fprintf(stderr, "warning: %s\n", message.c_str());
+}
 
 OnceState& onceState() {
   static OnceState state;
@@ -39,19 +53,69 @@ WarningHandler setWarningHandler(WarningHandler h) {
   return std::exchange(handler(), std::move(h));
 }
 
+thread_local WarningHold* tHold = nullptr;
+
+// True when this thread's innermost WarningHold kept the warning (kind null: warn()'s).
+bool holdWarning(const std::string* kind, const std::string& message) {
+  if (!tHold) return false;
+  {
+    std::lock_guard<std::mutex> lock(warningMutex());
+    if (onceState().silenced > 0) return true;  // dropped, as warn() would
+  }
+  tHold->held_.push_back({kind ? *kind : std::string(), message, kind != nullptr});
+  return true;
+}
+
+WarningHold::WarningHold() : outer_(tHold) {
+  tHold = this;
+}
+
+WarningHold::~WarningHold() {
+  tHold = outer_;
+}
+
+std::vector<HeldWarning> WarningHold::release() {
+  return std::exchange(held_, {});
+}
+
+void say(const std::vector<HeldWarning>& warnings) {
+  for (const HeldWarning& w : warnings)
+    if (!w.forFile)
+      warn(w.message);
+    else
+      warnForFile(w.kind, w.message);
+}
+
 void warn(const std::string& message) {
+  if (holdWarning(nullptr, message)) return;
   std::lock_guard<std::mutex> lock(warningMutex());
   OnceState& once = onceState();
   if (once.silenced > 0) return;
-  // (At most kRemembered messages are remembered: past them, messages are said every time, so
-  // a long run's distinct warnings cannot grow this set without bound.)
-  constexpr size_t kRemembered = 1 << 16;
   if (once.depth > 0 && once.said.count(message)) return;
   if (once.depth > 0 && once.said.size() < kRemembered) once.said.insert(message);
-  if (handler())
-    handler()(message);
-  else
-    std::fprintf(stderr, "warning: %s\n", message.c_str());
+  sayNow(message);
+}
+
+void warnForFile(const std::string& kind, const std::string& message) {
+  if (holdWarning(&kind, message)) return;
+  std::lock_guard<std::mutex> lock(warningMutex());
+  OnceState& once = onceState();
+  if (once.silenced > 0) return;
+  if (once.depth > 0) {
+    // The same file again (read more than once): nothing new.
+    if (once.said.count(message)) return;
+    auto it = once.kinds.find(kind);
+    if (it != once.kinds.end() && once.said.size() < kRemembered) {
+      once.said.insert(message);
+      ++it->second;
+      return;
+    }
+    if (once.said.size() < kRemembered && once.kinds.size() < kRemembered) {
+      once.said.insert(message);
+      once.kinds.emplace(kind, 0);
+    }
+  }
+  sayNow(message);
 }
 
 WarnOnceScope::WarnOnceScope() {
@@ -62,7 +126,21 @@ WarnOnceScope::WarnOnceScope() {
 WarnOnceScope::~WarnOnceScope() {
   std::lock_guard<std::mutex> lock(warningMutex());
   OnceState& once = onceState();
-  if (--once.depth == 0) once.said.clear();
+  if (--once.depth > 0) return;
+  once.said.clear();
+  std::map<std::string, size_t> kinds;
+  kinds.swap(once.kinds);
+  if (once.silenced > 0) return;
+  for (const auto& [kind, more] : kinds)
+    if (more > 0) {
+      try {
+        sayNow(kind + ": the same in " + std::to_string(more) + " more file" +
+               (more == 1 ? "" : "s") + " or frame" + (more == 1 ? "" : "s"));
+      } catch (...) {
+        // A handler that throws cannot be answered from a destructor; the rest is not said.
+        return;
+      }
+    }
 }
 
 SilenceWarningsScope::SilenceWarningsScope() {
