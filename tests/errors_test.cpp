@@ -162,6 +162,7 @@ constexpr size_t kShVersion = 0, kShFirstFrame = 2, kShFrameCount = 6, kShFrameR
                  kShGridBits = 18, kShOrigin = 19, kShStep = 43;
 constexpr size_t kGhFirstFrame = 0, kGhFrameCount = 4, kGhMode = 6, kGhRandomAccess = 7,
                  kGhQuantStep = 8, kGhDepth = 10, kGhNumKeyframes = 11, kGhDelta = 13;
+constexpr size_t kImFrame = 0, kImQuantStep = 4;  // section 4
 
 constexpr int kFrames = 6, kGridBits = 10;
 
@@ -981,7 +982,7 @@ CATALOGUE_TEST(G14) {
 
 CATALOGUE_TEST(I01) {
   std::vector<Unit> units = baseUnits();
-  putU32(units[2].payload, 0, 4);
+  putU32(units[2].payload, kImFrame, 4);
   expectUnitsRow("I01", units);
   units = baseUnits();
   putU32(units[7].payload, 0, 5);
@@ -1149,13 +1150,13 @@ CATALOGUE_TEST(I17) {
 // im_quant_step follows im_frame (4 bytes).
 CATALOGUE_TEST(I18) {
   std::vector<Unit> units = baseUnits();
-  putU16(units[2].payload, 4, 0);
+  putU16(units[2].payload, kImQuantStep, 0);
   expectUnitsRow("I18", units);
 }
 
 CATALOGUE_TEST(I19) {
   std::vector<Unit> units = baseUnits();
-  putU16(units[2].payload, 4, 4097);
+  putU16(units[2].payload, kImQuantStep, 4097);
   expectUnitsRow("I19", units);
 }
 
@@ -1163,7 +1164,7 @@ CATALOGUE_TEST(I20) {
   // The base I mesh's lossless values (10-bit grid) read as multiples of 4: those above
   // (2^10 - 1) / 4 = 255 would leave the grid once multiplied.
   std::vector<Unit> units = baseUnits();
-  putU16(units[2].payload, 4, 4);
+  putU16(units[2].payload, kImQuantStep, 4);
   expectUnitsRow("I20", units);
 }
 
