@@ -45,6 +45,42 @@ int main(int argc, char** argv) {
     EncoderParams params = encoder.params();
     params.validate();  // and the file keys
     const auto start = std::chrono::steady_clock::now();
+    // One glTF file holding the whole sequence (InputMeshPattern without %d naming a .gltf or
+    // .glb): its animation's keyframes are the frames 0 .. N-1, read from the file held once.
+    std::optional<GltfFile> animation;
+    if (!params.inputMeshPattern.empty() && isMeshAnimationFile(params.inputMeshPattern)) {
+      animation.emplace(params.inputMeshPattern);
+      // FrameRate not set (and no Dataset, whose frames.rate the camera images follow): the
+      // key times' rate when they are evenly spaced, which the stream then carries (and a
+      // decoded animation file's key times); else the default, said. Before the effective
+      // configuration, which then shows it.
+      const size_t frames = animation->frameCount();
+      const size_t first = static_cast<size_t>(params.firstFrame);
+      const size_t count = params.frameCount > 0 ? static_cast<size_t>(params.frameCount)
+                           : first < frames      ? frames - first
+                                                 : 0;
+      if (!encoder.dataset() && !encoder.wasSet("FrameRate") && count > 1 && first < frames &&
+          count <= frames - first) {
+        const std::optional<double> rate = animation->keyRate(first, count);
+        const std::string keys = params.inputMeshPattern + ": the key times of keyframes " +
+                                 std::to_string(first) + " .. " + std::to_string(first + count - 1);
+        const std::string coded = ": the frames are coded one every 1/FrameRate s, FrameRate " +
+                                  formatDouble(params.frameRate) + " (not set); set FrameRate";
+        if (rate && *rate >= 0.001 && *rate <= 1000) {
+          encoder.options().set("FrameRate", formatDouble(*rate),
+                                params.inputMeshPattern + " key times");
+          params.frameRate = encoder.params().frameRate;
+          std::printf("# FrameRate: %s (the key times of %s)\n",
+                      formatDouble(params.frameRate).c_str(), params.inputMeshPattern.c_str());
+        } else if (rate) {
+          warn(keys + " are evenly spaced at " + formatDouble(*rate) +
+               " frames/s, outside FrameRate's range 0.001 .. 1000" + coded);
+        } else {
+          warn(keys + " are not evenly spaced (" + formatDouble(animation->frameTime(first)) +
+               " s to " + formatDouble(animation->frameTime(first + count - 1)) + " s)" + coded);
+        }
+      }
+    }
     std::printf("# 3dvo-enc effective configuration\n%s\n", table.effectiveConfig().c_str());
 
     // Input. OBJ frames, named by InputMeshPattern or by the dataset's meshes, are read frame
@@ -53,11 +89,7 @@ int main(int argc, char** argv) {
     // frames when it codes that GOM, so memory is bounded by a few GOMs, not by the sequence.
     FrameSource source;
     const Dataset* input = encoder.dataset();  // the dataset, when given
-    // One glTF file holding the whole sequence (InputMeshPattern without %d naming a .gltf or
-    // .glb): its animation's keyframes are the frames 0 .. N-1, read from the file held once.
-    std::optional<GltfFile> animation;
-    if (!params.inputMeshPattern.empty() && isMeshAnimationFile(params.inputMeshPattern)) {
-      animation.emplace(params.inputMeshPattern);
+    if (animation) {
       const int64_t frames = static_cast<int64_t>(animation->frameCount());
       check(params.firstFrame < frames,
             params.inputMeshPattern + ": FirstFrame " + std::to_string(params.firstFrame) +
@@ -72,26 +104,6 @@ int main(int argc, char** argv) {
                 " is past the animation's last frame " + std::to_string(frames - 1));
       std::printf("# input frames: %d of the %lld keyframes of %s\n", params.frameCount,
                   static_cast<long long>(frames), params.inputMeshPattern.c_str());
-      // FrameRate not set: the key times' rate when they are evenly spaced, which the stream
-      // then carries (and a decoded animation file's key times); else the default, said.
-      if (!encoder.wasSet("FrameRate") && params.frameCount > 1) {
-        const size_t first = static_cast<size_t>(params.firstFrame);
-        const size_t count = static_cast<size_t>(params.frameCount);
-        if (const std::optional<double> rate = animation->keyRate(first, count)) {
-          encoder.options().set("FrameRate", formatDouble(*rate),
-                                params.inputMeshPattern + " key times");
-          params.frameRate = encoder.params().frameRate;
-          std::printf("# FrameRate: %s (the key times of %s)\n",
-                      formatDouble(params.frameRate).c_str(), params.inputMeshPattern.c_str());
-        } else {
-          warn(params.inputMeshPattern + ": the key times of keyframes " + std::to_string(first) +
-               " .. " + std::to_string(first + count - 1) + " are not evenly spaced (" +
-               formatDouble(animation->frameTime(first)) + " s to " +
-               formatDouble(animation->frameTime(first + count - 1)) +
-               " s): the frames are coded one every 1/FrameRate s, FrameRate " +
-               formatDouble(params.frameRate) + " (not set); set FrameRate");
-        }
-      }
     }
     // FrameCount not set: every frame from FirstFrame until the first missing file.
     std::string found;

@@ -222,6 +222,7 @@ EncodedSequence encodeSequence(const EncoderParams& inParams, const Grid& grid,
   params.gridBits = grid.bits;
   // The stream has ATTRIBUTES units when the first frame has attributes the cfg keeps.
   {
+    WarningHold again;  // frame 0 was read before (below: the GOMs' frames)
     const MeshAttributes first = source.read(0).attributes;
     params.attributesPresent = (params.textureCoordinates && first.hasUvs()) ||
                                (params.normals != NormalsChoice::kNone && first.hasNormals());
@@ -275,8 +276,13 @@ EncodedSequence encodeSequence(const EncoderParams& inParams, const Grid& grid,
           const size_t count = static_cast<size_t>(goms[g].second);
           std::vector<Mesh> frames;
           frames.reserve(count);
-          for (size_t k = 0; k < count; ++k)
-            frames.push_back(source.read(first + k));
+          {
+            // The bounds pass read these frames and said their readers' warnings, in frame
+            // order; reading them again says nothing new (and is not counted twice).
+            WarningHold again;
+            for (size_t k = 0; k < count; ++k)
+              frames.push_back(source.read(first + k));
+          }
           const bool last = g + 1 == runs[r].first + runs[r].second;
           coded.push_back(encodeGomGeometry(params, grid, first, std::move(frames), frameName,
                                             g == runs[r].first ? nullptr : &continuation,

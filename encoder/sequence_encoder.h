@@ -96,7 +96,8 @@ EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
 // the stream and every callback in the order of a sequential run (byte-identical for any
 // thread count). At most 2 * threads GOMs of frames and results are held at once. The frames'
 // vertex order is kept in frameInputIndex only when `keepInputIndex` (it grows with the
-// sequence; the overload above keeps it).
+// sequence; the overload above keeps it). What the frames' readers warn here is not said: the
+// frames were read, and their warnings said in frame order, by boundsOfSequence before.
 EncodedSequence encodeSequence(const EncoderParams& params, const Grid& grid,
                                const FrameSource& source, const FrameCallback& onFrame,
                                TextureEncoder* textures = nullptr,

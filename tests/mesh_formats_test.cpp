@@ -180,6 +180,20 @@ TEST(Ply, WhatIsNotReadIsSaid) {
             "c.ply: left out (not read): vertex properties red, green; face property texcoord; "
             "element edge (2 records)");
   said.clear();
+  // In a run, files that leave the same things out (in other amounts) are counted.
+  {
+    WarnOnceScope once;
+    parsePly(text, "c0.ply");
+    std::string three = text;
+    three.replace(three.find("element edge 2"), 14, "element edge 3");
+    parsePly(three + "2 0\n", "c1.ply");
+  }
+  EXPECT_EQ(said, (std::vector<std::string>{
+                      "c0.ply: left out (not read): vertex properties red, green; face property "
+                      "texcoord; element edge (2 records)",
+                      "left out (not read): vertex properties red, green; face property texcoord; "
+                      "element edge: the same in 1 more file or frame"}));
+  said.clear();
   parsePly(formatPly(test::wobblingSphere(1, 1)[0], PlyEncoding::kAscii), "plain.ply");
   EXPECT_TRUE(said.empty());
   // Meshlab's texture link (a comment, the one listed) and a quad split into two triangles.
@@ -774,7 +788,21 @@ TEST(Gltf, KeyRate) {
   EXPECT_EQ(fileWithTimes({0.0f, 0.1f, 2.0f}).keyRate(0, 2), 10.0);
   EXPECT_EQ(fileWithTimes({0.0f, 0.1f}).keyRate(0, 1), std::nullopt);
   EXPECT_EQ(fileWithTimes({0.0f, 0.1f}).keyRate(1, 2), std::nullopt);
-  EXPECT_EQ(fileWithTimes({0.0f, 0.0001f}).keyRate(0, 2), std::nullopt);  // 10,000 frames/s
+  EXPECT_EQ(fileWithTimes({0.0f, 0.0001f}).keyRate(0, 2), 10000.0);  // out of FrameRate's range
+  std::vector<float> halves, thousandths, tenMinutes;
+  for (int k = 0; k < 100; ++k) {
+    halves.push_back(static_cast<float>(k) / 12.5f);
+    thousandths.push_back(static_cast<float>(k) / 1000.0f);
+  }
+  for (int k = 0; k <= 18000; ++k)
+    tenMinutes.push_back(static_cast<float>(k) / 30.0f);
+  EXPECT_EQ(fileWithTimes(halves).keyRate(0, 100), 12.5);
+  EXPECT_EQ(fileWithTimes(thousandths).keyRate(0, 100), 1000.0);
+  // Late in a long animation float32 key times are coarse (600 s: steps of 2^-17 s).
+  EXPECT_EQ(fileWithTimes(tenMinutes).keyRate(0, 18001), 30.0);
+  EXPECT_EQ(fileWithTimes(tenMinutes).keyRate(17999, 2), 30.0);
+  EXPECT_EQ(fileWithTimes(tenMinutes).keyRate(9000, 3), 30.0);
+  EXPECT_EQ(fileWithTimes(tenMinutes).keyRate(1, SIZE_MAX), std::nullopt);
 }
 
 TEST(Gltf, QuantizedPositionsWithoutIndices) {

@@ -394,7 +394,7 @@ TEST(ObjIo, AttributesLeftOutAreSaid) {
   // Statements 3DVO does not code (a Blender export's materials, object name and smoothing):
   // one warning naming each with the first line that has it.
   const Mesh blender = parseObj(
-      "# Blender\nmtllib cube.mtl\no Cube\nv 0 0 0\nv 1 0 0\nv 0 1 0\ns 0\nusemtl Mat\n"
+      "# Blender\nmtllib cube.mtl\no Cube\nv 0 0 0\nv 1 0 0\nv 0 1 0\ns 1\nusemtl Mat\n"
       "f 1 2 3\no Other\ng part\nf 1 3 2\n",
       "blender.obj");
   EXPECT_EQ(blender.triangles.size(), 2u);
@@ -404,6 +404,9 @@ TEST(ObjIo, AttributesLeftOutAreSaid) {
             "names, groups, smoothing) are left out of the decoded frames (first: 'mtllib' line "
             "2, 'usemtl' line 8, 'o' line 3, 'g' line 11, 's' line 7)");
   said.clear();
+  // Smoothing switched off leaves nothing out.
+  parseObj("v 0 0 0\nv 1 0 0\nv 0 1 0\ns off\nf 1 2 3\ns 0\n", "off.obj");
+  EXPECT_TRUE(said.empty()) << said[0];
   // Polygons are split into fans, said once with the first one's line.
   const Mesh quads =
       parseObj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 2 3 4\nf 4 3 2 1\n", "q.obj");

@@ -67,8 +67,7 @@ TEST(Yuv, AwkwardSizesStayInTheirPlanes) {
       for (uint8_t p : back.pixels)
         ASSERT_NEAR(p, 128, 1);
       const Image pattern = testFrame(w, h, round);
-      EXPECT_EQ(yuv420ToRgb(rgbToYuv420(pattern)).pixels,
-                yuv420ToRgb(rgbToYuv420(pattern)).pixels);
+      EXPECT_EQ(yuv420ToRgb(rgbToYuv420(pattern)).pixels, yuv420ToRgb(rgbToYuv420(pattern)).pixels);
     }
   }
 }

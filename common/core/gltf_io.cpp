@@ -1000,14 +1000,6 @@ std::unique_ptr<GltfFile::Impl> parseGltf(const std::vector<uint8_t>& bytes,
     if (!files.error.empty()) throw Error(name + ": buffer: " + files.error);
     throw Error(name + ": glTF: " + firstLine(err.empty() ? "cannot be read" : err));
   }
-  // What tinygltf itself warns about (e.g. properties it does not know) is passed on.
-  for (size_t at = 0; at < warn.size();) {
-    const size_t end = std::min(warn.find('\n', at), warn.size());
-    if (end > at)
-      tdvo::warnForFile("glTF: " + warn.substr(at, end - at),
-                        name + ": glTF: " + warn.substr(at, end - at));
-    at = end + 1;
-  }
   impl->inputBytes = bytes.size();
   impl->load();
   return impl;
@@ -1055,23 +1047,37 @@ double GltfFile::frameTime(size_t k) const {
 }
 
 std::optional<double> GltfFile::keyRate(size_t first, size_t count) const {
-  if (count < 2 || first + count > frameCount()) return std::nullopt;
-  const double t0 = frameTime(first);
-  const double spacing = (frameTime(first + count - 1) - t0) / static_cast<double>(count - 1);
-  if (!(spacing > 0)) return std::nullopt;
-  for (size_t k = 1; k + 1 < count; ++k)
-    if (std::abs(frameTime(first + k) - t0 - static_cast<double>(k) * spacing) > 1e-3 * spacing)
-      return std::nullopt;
-  const double rate = 1 / spacing;
-  if (!(rate >= 0.001 && rate <= 1000)) return std::nullopt;
-  // Key times are float32: 30 frames/s is 29.99999... from them.
-  for (const double denominator : {1.0, 1001.0}) {
-    const double numerator = denominator == 1 ? 1.0 : 1000.0;
-    const double whole = std::round(rate * denominator / numerator);
-    const double nice = whole * numerator / denominator;
-    if (whole >= 1 && std::abs(rate - nice) <= 1e-5 * rate) return nice;
-  }
-  return rate;
+  const size_t n = frameCount();
+  if (count < 2 || first >= n || count > n - first) return std::nullopt;
+  const auto t = [&](size_t k) { return frameTime(first + k); };
+  const double t0 = t(0), span = t(count - 1) - t0;
+  if (!(span > 0)) return std::nullopt;
+  // The float32 rounding of a key time.
+  const auto ulp = [](double x) {
+    const float f = static_cast<float>(std::abs(x));
+    return static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity()) - f);
+  };
+  // Evenly spaced at `rate`: every key within a thousandth of the spacing of t0 + k / rate,
+  // beyond the float32 rounding of both times.
+  const auto fits = [&](double rate) {
+    for (size_t k = 1; k < count; ++k)
+      if (std::abs(t(k) - (t0 + static_cast<double>(k) / rate)) >
+          1e-3 / rate + 2 * (ulp(t(k)) + ulp(t0)))
+        return false;
+    return true;
+  };
+  const double raw = static_cast<double>(count - 1) / span;
+  // A simple rate when one fits: p / q (q up to 12: 25, 12.5, 7.5, ...), then p / (1.001 q)
+  // (29.97 = 30000 / 1001, 23.976, ...).
+  for (int q = 1; q <= 12; ++q)
+    for (const bool ntsc : {false, true}) {
+      const double p = std::round(raw * q * (ntsc ? 1.001 : 1.0));
+      if (p < 1) continue;
+      const double rate = ntsc ? p * 1000 / (q * 1001.0) : p / q;
+      if (fits(rate)) return rate;
+    }
+  if (fits(raw)) return raw;
+  return std::nullopt;
 }
 
 Mesh GltfFile::frame(size_t k) const {

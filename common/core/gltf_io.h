@@ -70,9 +70,9 @@ class GltfFile {
   // Frame k (k < frameCount()). Throws Error naming the file and the part at fault.
   Mesh frame(size_t k) const;
   // The frame rate of frames first .. first + count - 1 when their key times are evenly spaced
-  // (each within a thousandth of the spacing of its place), in (0, 1000] frames per second: a
-  // whole number, or one over 1.001 (29.97 = 30000 / 1001 ...), when within 10^-5 of one, else
-  // 1 / spacing; nothing for fewer than two frames or uneven key times.
+  // (each within a thousandth of the spacing of its place, beyond float32 rounding): the first
+  // rate p / q or p / (1.001 q) (q = 1 .. 12) that fits, else (count - 1) / (last - first
+  // time); nothing for fewer than two frames, frames not in the file or uneven key times.
   std::optional<double> keyRate(size_t first, size_t count) const;
 
   struct Impl;  // the parsed file (gltf_io.cpp)

@@ -206,8 +206,11 @@ class ObjParser {
             a->triangles.push_back({a->corners[0], a->corners[i], a->corners[i + 1]});
       }
     } else if (const size_t k = skippedStatement(keyword); k < std::size(kSkippedStatements)) {
-      // Not geometry 3DVO codes: left out, and said (warnSkippedStatements).
-      if (skippedLine_[k] == 0) skippedLine_[k] = lineNumber_;
+      // Not geometry 3DVO codes: left out, and said (warnSkippedStatements); smoothing groups
+      // switched off ("s off", "s 0", what Blender writes) leave nothing out.
+      const bool off =
+          keyword == "s" && tokens.size() == 2 && (tokens[1] == "off" || tokens[1] == "0");
+      if (skippedLine_[k] == 0 && !off) skippedLine_[k] = lineNumber_;
     } else {
       fail("unsupported statement '" + std::string(keyword) + "'");
     }

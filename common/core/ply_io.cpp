@@ -327,7 +327,9 @@ class PlyParser {
   // What of the file's data is not read (properties of vertices and faces other than those
   // above, elements other than vertex and face that hold records) is said, in one warning.
   void warnLeftOut() const {
-    std::string list;
+    // `list` names what and how much; `kind` what only, the same for every file that leaves
+    // the same things out (common/core/warnings.h, warnForFile).
+    std::string list, kind;
     for (const Element& e : elements_) {
       if (e.isVertex || e.isFace) {
         std::string names;
@@ -336,19 +338,25 @@ class PlyParser {
           if (e.roles[i] == Role::kSkip) {
             names += (count++ ? ", " : "") + e.properties[i].name;
           }
-        if (count > 0 && e.count > 0)
-          list += std::string(list.empty() ? "" : "; ") + e.name + " propert" +
-                  (count == 1 ? "y " : "ies ") + names;
+        if (count > 0 && e.count > 0) {
+          const std::string what = e.name + " propert" + (count == 1 ? "y " : "ies ") + names;
+          list += std::string(list.empty() ? "" : "; ") + what;
+          kind += std::string(kind.empty() ? "" : "; ") + what;
+        }
       } else if (e.count > 0) {
         list += std::string(list.empty() ? "" : "; ") + "element " + e.name + " (" +
                 std::to_string(e.count) + (e.count == 1 ? " record)" : " records)");
+        kind += std::string(kind.empty() ? "" : "; ") + "element " + e.name;
       }
     }
-    if (textureFileLine_ > 0)
-      list += std::string(list.empty() ? "" : "; ") + "the texture image's name (comment " +
-              "TextureFile, header line " + std::to_string(textureFileLine_) + ")";
+    if (textureFileLine_ > 0) {
+      const std::string what = "the texture image's name (comment TextureFile";
+      list += std::string(list.empty() ? "" : "; ") + what + ", header line " +
+              std::to_string(textureFileLine_) + ")";
+      kind += std::string(kind.empty() ? "" : "; ") + what + ")";
+    }
     if (!list.empty())
-      warnForFile("left out (not read): " + list, name_ + ": left out (not read): " + list);
+      warnForFile("left out (not read): " + kind, name_ + ": left out (not read): " + list);
   }
 
   // Checks the element declared last, once its properties are known.

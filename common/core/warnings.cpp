@@ -6,6 +6,7 @@
 #include <set>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace tdvo {
 
@@ -26,8 +27,10 @@ struct OnceState {
   int depth = 0;
   int silenced = 0;  // open SilenceWarningsScopes
   std::set<std::string> said;
-  // warnForFile kinds said during the outermost scope -> the files' messages not said.
+  // warnForFile kinds said during the outermost scope -> their place in `counted`, which holds
+  // each with the number of files' messages not said, in the order the kinds were first said.
   std::map<std::string, size_t> kinds;
+  std::vector<std::pair<std::string, size_t>> counted;
 };
 
 // At most this many distinct messages and kinds are remembered: past them, messages are said
@@ -102,17 +105,19 @@ void warnForFile(const std::string& kind, const std::string& message) {
   OnceState& once = onceState();
   if (once.silenced > 0) return;
   if (once.depth > 0) {
-    // The same file again (read more than once): nothing new.
+    // The same file again (read more than once): nothing new. (Past kRemembered messages a
+    // file read twice counts twice; 3dvo-enc's coding pass does not warn again,
+    // encodeSequence.)
     if (once.said.count(message)) return;
+    if (once.said.size() < kRemembered) once.said.insert(message);
     auto it = once.kinds.find(kind);
-    if (it != once.kinds.end() && once.said.size() < kRemembered) {
-      once.said.insert(message);
-      ++it->second;
+    if (it != once.kinds.end()) {
+      ++once.counted[it->second].second;
       return;
     }
-    if (once.said.size() < kRemembered && once.kinds.size() < kRemembered) {
-      once.said.insert(message);
-      once.kinds.emplace(kind, 0);
+    if (once.kinds.size() < kRemembered) {
+      once.kinds.emplace(kind, once.counted.size());
+      once.counted.emplace_back(kind, 0);
     }
   }
   sayNow(message);
@@ -128,10 +133,11 @@ WarnOnceScope::~WarnOnceScope() {
   OnceState& once = onceState();
   if (--once.depth > 0) return;
   once.said.clear();
-  std::map<std::string, size_t> kinds;
-  kinds.swap(once.kinds);
+  once.kinds.clear();
+  std::vector<std::pair<std::string, size_t>> counted;
+  counted.swap(once.counted);
   if (once.silenced > 0) return;
-  for (const auto& [kind, more] : kinds)
+  for (const auto& [kind, more] : counted)
     if (more > 0) {
       try {
         sayNow(kind + ": the same in " + std::to_string(more) + " more file" +
