@@ -25,6 +25,33 @@ TEST(InterpolateFrame, RoundsLikeRoundDiv) {
   EXPECT_EQ(interpolateFrame(a, b, 0, 4, 4), b);
 }
 
+// Every span (powers of two take a shift, the others a division) gives
+// ka + roundDiv((kb - ka) * t, span) as bitstream.md says, for coordinates over the whole grid
+// range, negative differences and both halves' rounding included.
+TEST(InterpolateFrame, EverySpanMatchesTheDefinition) {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int32_t> coordinate(0, (1 << 20) - 1), small(0, 9);
+  std::vector<Vec3i> ka(600), kb(600);
+  for (size_t v = 0; v < ka.size(); ++v)
+    for (int c = 0; c < 3; ++c) {
+      ka[v][c] = v < 300 ? coordinate(rng) : small(rng);
+      kb[v][c] = v < 300 ? coordinate(rng) : small(rng);
+    }
+  for (int a : {0, 5, 1000})
+    for (int span = 1; span <= 70; ++span)
+      for (int t = 0; t <= span; ++t) {
+        const std::vector<Vec3i> out = interpolateFrame(ka, kb, a, a + span, a + t);
+        for (size_t v = 0; v < ka.size(); ++v)
+          for (int c = 0; c < 3; ++c) {
+            const int64_t n = (int64_t{kb[v][c]} - ka[v][c]) * t;
+            const int64_t q = n * 2 + span;  // floor(q / (2 span))
+            const int64_t expect =
+                ka[v][c] + (q >= 0 ? q / (2 * span) : -((-q + 2 * span - 1) / (2 * span)));
+            ASSERT_EQ(out[v][c], expect) << "span " << span << " t " << t << " v " << v;
+          }
+      }
+}
+
 // Total squared interpolation error of a keyframe set.
 double totalError(const std::vector<std::vector<Vec3i>>& frames, const std::vector<int>& keys) {
   double total = 0;
