@@ -250,9 +250,13 @@ int main(int argc, char** argv) {
                   8.0 * coded.textureBytes / 1000.0 / (source.count / params.frameRate));
     std::printf("kbit/s at %g fps    : %.3f\n", params.frameRate,
                 bits / 1000.0 / (source.count / params.frameRate));
-    std::printf("grid error          : RMSE %.4f, max %lld (grid units, vs the quantised input)\n",
-                std::sqrt(coded.sumSquaredError / (3.0 * coded.vertexFrames)),
-                static_cast<long long>(coded.maxAbsError));
+    // Even a lossless coding is lossless on the grid: quantising the input moved each coordinate
+    // to the nearest grid point, which this line says, with how far that can be.
+    std::printf(
+        "grid error          : RMSE %.4f, max %lld (grid units, vs the quantised input; quantising "
+        "moved each input coordinate by up to half a step, %.9g)\n",
+        std::sqrt(coded.sumSquaredError / (3.0 * coded.vertexFrames)),
+        static_cast<long long>(coded.maxAbsError), encoder.grid().step / 2);
     std::printf("time                : %.3f s\n", seconds);
     return 0;
   });

@@ -726,11 +726,14 @@ TEST(Gltf, WhatIsNotReadIsSaid) {
   j["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] =
       addFloatAccessor(j, std::vector<float>(8, 0.5f), "VEC2", 4);
   j["extensionsUsed"] = {"KHR_materials_unlit"};
+  j["nodes"].push_back({{"mesh", 0}, {"translation", {5, 0, 0}}});  // in the second scene
+  j["scenes"].push_back({{"nodes", {1}}});
   frameOf(j);
   ASSERT_EQ(said.size(), 1u);
   EXPECT_EQ(said[0],
             "t.gltf: left out (3DVO codes positions, NORMAL and TEXCOORD_0): 2 materials; 1 "
-            "texture; 1 image; vertex attributes COLOR_0, TEXCOORD_1; the extensions used "
+            "texture; 1 image; vertex attributes COLOR_0, TEXCOORD_1; 1 scene other than the "
+            "default; 1 node with a mesh outside the default scene; the extensions used "
             "KHR_materials_unlit");
   said.clear();
   // Two animations: the second is said; read as one frame of a pattern, the keyframes too.
@@ -762,6 +765,36 @@ TEST(Gltf, WhatIsNotReadIsSaid) {
 
 // KHR_mesh_quantization positions (SHORT, 8-byte stride) without indices: 6 vertices in 48
 // bytes are read (a bound of 12 bytes per vertex refused them).
+// glTF output: normals not of unit length are scaled to it (glTF requires it), said once per
+// run; length 0 is kept and said.
+TEST(Gltf, WrittenNormalsAreUnitLength) {
+  std::vector<std::string> said;
+  const WarningHandler before =
+      setWarningHandler([&](const std::string& message) { said.push_back(message); });
+  Mesh m = tetrahedron();
+  m.attributes.normals = {{0, 0, 2}, {0.1f, 0.2f, 0.3f}, {0, 1, 0}, {0, 0, 0}};
+  Mesh back;
+  {
+    WarnOnceScope once;
+    const std::string text = formatGltf(m, GltfContainer::kGltf);
+    formatGltf(m, GltfContainer::kGlb);
+    back = GltfFile(std::vector<uint8_t>(text.begin(), text.end()), "n.gltf").frame(0);
+  }
+  ASSERT_EQ(back.attributes.normals.size(), 4u);
+  EXPECT_EQ(back.attributes.normals[0], (Vec3f{0, 0, 1}));
+  const double l = std::sqrt(0.01 + 0.04 + 0.09);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_FLOAT_EQ(back.attributes.normals[1][c], static_cast<float>(0.1 * (c + 1) / l));
+  EXPECT_EQ(back.attributes.normals[2], (Vec3f{0, 1, 0}));
+  EXPECT_EQ(back.attributes.normals[3], (Vec3f{0, 0, 0}));
+  EXPECT_EQ(said, (std::vector<std::string>{
+                      "glTF output: normals not of unit length are scaled to it (glTF requires "
+                      "unit NORMALs; OBJ and PLY output keep them as they are)",
+                      "glTF output: normals of length 0 are written as they are (not valid "
+                      "glTF)"}));
+  setWarningHandler(before);
+}
+
 // The key times' frame rate: evenly spaced keys give it (whole numbers and the NTSC rates as
 // such, from float32 times), uneven ones or a single frame none.
 TEST(Gltf, KeyRate) {

@@ -556,6 +556,28 @@ struct GltfFile::Impl {
         list += (list.empty() ? "" : ", ") + a;
       parts.push_back("vertex attributes " + list);
     }
+    // What a viewer of the default scene does not show either.
+    if (model.scenes.size() > 1)
+      parts.push_back(std::to_string(model.scenes.size() - 1) + " scene" +
+                      (model.scenes.size() == 2 ? "" : "s") + " other than the default");
+    if (!model.nodes.empty()) {
+      std::vector<uint8_t> shownNode(model.nodes.size(), 0), shownMesh(model.meshes.size(), 0);
+      for (const Instance& i : instances)
+        shownNode[static_cast<size_t>(i.node)] = 1;
+      for (int n : meshNodes)
+        shownMesh[static_cast<size_t>(meshOf(n))] = 1;
+      size_t hiddenNodes = 0, unusedMeshes = 0;
+      for (size_t n = 0; n < model.nodes.size(); ++n)
+        hiddenNodes += !shownNode[n] && model.nodes[n].mesh >= 0;
+      for (uint8_t shown : shownMesh)
+        unusedMeshes += !shown;
+      if (hiddenNodes > 0)
+        parts.push_back(std::to_string(hiddenNodes) + " node" + (hiddenNodes == 1 ? "" : "s") +
+                        " with a mesh outside the default scene");
+      if (unusedMeshes > 0)
+        parts.push_back(std::to_string(unusedMeshes) + " mesh" + (unusedMeshes == 1 ? "" : "es") +
+                        " no node of the default scene shows");
+    }
     if (model.animations.size() > 1)
       parts.push_back("animations 1 .. " + std::to_string(model.animations.size() - 1) +
                       " (animation 0 is read)");
@@ -1218,12 +1240,38 @@ std::vector<float> toFloats(const Mesh& mesh) {
   return xyz;
 }
 
+// glTF requires NORMAL to be of unit length: a normal whose length differs from 1 by more than
+// 5e-4 is scaled to it (one of length 0 cannot be, and is written as it is), and that is said
+// (what is changed is said, common/core/warnings.h). OBJ and PLY keep such normals exactly.
+void unitNormals(Mesh& mesh) {
+  size_t scaled = 0, zero = 0;
+  for (Vec3f& n : mesh.attributes.normals) {
+    const double length =
+        std::sqrt(double{n[0]} * n[0] + double{n[1]} * n[1] + double{n[2]} * n[2]);
+    if (std::abs(length - 1) <= 5e-4) continue;
+    if (!(length > 0) || !std::isfinite(length)) {
+      ++zero;
+      continue;
+    }
+    for (float& c : n)
+      c = static_cast<float>(c / length);
+    ++scaled;
+  }
+  // Once per run (WarnOnceScope): the frames of a sequence repeat it.
+  if (scaled > 0)
+    warn(
+        "glTF output: normals not of unit length are scaled to it (glTF requires unit NORMALs; "
+        "OBJ and PLY output keep them as they are)");
+  if (zero > 0) warn("glTF output: normals of length 0 are written as they are (not valid glTF)");
+}
+
 }  // namespace
 
 std::string formatGltf(const Mesh& input, GltfContainer container) {
   tinygltf::Model model = newModel();
   // glTF attributes are per vertex: seams are split into appended vertex copies.
-  const Mesh mesh = splitAttributeSeams(input);
+  Mesh mesh = splitAttributeSeams(input);
+  unitNormals(mesh);
   const std::vector<float> xyz = toFloats(mesh);
   tinygltf::Primitive prim;
   prim.mode = TINYGLTF_MODE_TRIANGLES;
@@ -1271,7 +1319,8 @@ void GltfAnimationWriter::add(const Mesh& input) {
     throw Error("its time in the animation, " + std::to_string(frames_) + " / frame rate " +
                 formatDouble(frameRate_) + ", is beyond float32 (glTF's key times)");
   vertexFrames_ += input.positions.size();
-  const Mesh frame = splitAttributeSeams(input);  // per-vertex attributes, as formatGltf
+  Mesh frame = splitAttributeSeams(input);  // per-vertex attributes, as formatGltf
+  unitNormals(frame);
   const size_t inRun = runs_.empty() ? 0 : frames_ - runs_.back().first;
   const bool normals = frame.attributes.hasNormals();
   if (runs_.empty() || inRun == kMaxGltfRunFrames ||
