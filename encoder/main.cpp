@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
       const size_t frames = animation->frameCount();
       const size_t first = static_cast<size_t>(params.firstFrame);
       const size_t count = params.frameCount > 0 ? static_cast<size_t>(params.frameCount)
-                           : first < frames      ? frames - first
+                           : first < frames      ? std::min<size_t>(frames - first, kMaxFrames)
                                                  : 0;
       if (!encoder.dataset() && !encoder.wasSet("FrameRate") && count > 1 && first < frames &&
           count <= frames - first) {

@@ -37,7 +37,9 @@ struct EncodedSequence {
 
 // The input frames of a sequence, read on demand, so that the encoder never holds more than a
 // few GOMs of them. read(k) returns frame k (0-based); with Threads > 1 it is called from
-// several threads at once (for different frames), so it must be thread-safe. name(k) names
+// several threads at once (for different frames), so it must be thread-safe, and it must
+// return the same frame each time (the encoder reads each frame twice: a first pass for the
+// grid, then the coding; what read(k) warns the second time is not said). name(k) names
 // frame k's source in error messages (may be empty: "frame k").
 struct FrameSource {
   size_t count = 0;

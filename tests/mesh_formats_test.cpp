@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -763,16 +764,14 @@ TEST(Gltf, WhatIsNotReadIsSaid) {
   setWarningHandler(before);
 }
 
-// KHR_mesh_quantization positions (SHORT, 8-byte stride) without indices: 6 vertices in 48
-// bytes are read (a bound of 12 bytes per vertex refused them).
 // glTF output: normals not of unit length are scaled to it (glTF requires it), said once per
-// run; length 0 is kept and said.
+// run; length 0 and non-finite ones are kept and said.
 TEST(Gltf, WrittenNormalsAreUnitLength) {
   std::vector<std::string> said;
   const WarningHandler before =
       setWarningHandler([&](const std::string& message) { said.push_back(message); });
   Mesh m = tetrahedron();
-  m.attributes.normals = {{0, 0, 2}, {0.1f, 0.2f, 0.3f}, {0, 1, 0}, {0, 0, 0}};
+  m.attributes.normals = {{0, 0, 2}, {0.1f, 0.2f, 0.3f}, {0.57735f, 0.57735f, 0.57735f}, {0, 0, 0}};
   Mesh back;
   {
     WarnOnceScope once;
@@ -785,13 +784,18 @@ TEST(Gltf, WrittenNormalsAreUnitLength) {
   const double l = std::sqrt(0.01 + 0.04 + 0.09);
   for (int c = 0; c < 3; ++c)
     EXPECT_FLOAT_EQ(back.attributes.normals[1][c], static_cast<float>(0.1 * (c + 1) / l));
-  EXPECT_EQ(back.attributes.normals[2], (Vec3f{0, 1, 0}));
+  EXPECT_EQ(back.attributes.normals[2], (Vec3f{0.57735f, 0.57735f, 0.57735f}));  // unit enough
   EXPECT_EQ(back.attributes.normals[3], (Vec3f{0, 0, 0}));
   EXPECT_EQ(said, (std::vector<std::string>{
                       "glTF output: normals not of unit length are scaled to it (glTF requires "
                       "unit NORMALs; OBJ and PLY output keep them as they are)",
                       "glTF output: normals of length 0 are written as they are (not valid "
                       "glTF)"}));
+  said.clear();
+  m.attributes.normals[3] = {std::numeric_limits<float>::infinity(), 0, 0};
+  formatGltf(m, GltfContainer::kGlb);
+  EXPECT_EQ(said.back(),
+            "glTF output: normals that are not finite are written as they are (not valid glTF)");
   setWarningHandler(before);
 }
 
@@ -816,6 +820,15 @@ TEST(Gltf, KeyRate) {
   EXPECT_EQ(fileWithTimes(thirtieths).keyRate(0, 300), 30.0);
   EXPECT_EQ(fileWithTimes(thirtieths).keyRate(100, 2), 30.0);
   EXPECT_EQ(fileWithTimes(ntsc).keyRate(0, 300), 30000.0 / 1001.0);
+  // Two keys tell 29.97 from 30 (and 23.976 from 24) at the start; late, float32 cannot, and
+  // the simpler rate is taken.
+  EXPECT_EQ(fileWithTimes({0.0f, static_cast<float>(1001.0 / 30000.0)}).keyRate(0, 2),
+            30000.0 / 1001.0);
+  EXPECT_EQ(fileWithTimes({0.0f, static_cast<float>(1001.0 / 24000.0)}).keyRate(0, 2),
+            24000.0 / 1001.0);
+  EXPECT_EQ(fileWithTimes({0.0f, 1.0f / 30.0f}).keyRate(0, 2), 30.0);
+  EXPECT_EQ(fileWithTimes({600.0f, static_cast<float>(600.0 + 1001.0 / 30000.0)}).keyRate(0, 2),
+            30.0);
   EXPECT_EQ(fileWithTimes({0.0f, 2.0f, 4.0f}).keyRate(0, 3), 0.5);
   EXPECT_EQ(fileWithTimes({0.0f, 0.1f, 2.0f}).keyRate(0, 3), std::nullopt);
   EXPECT_EQ(fileWithTimes({0.0f, 0.1f, 2.0f}).keyRate(0, 2), 10.0);
@@ -838,6 +851,8 @@ TEST(Gltf, KeyRate) {
   EXPECT_EQ(fileWithTimes(tenMinutes).keyRate(1, SIZE_MAX), std::nullopt);
 }
 
+// KHR_mesh_quantization positions (SHORT, 8-byte stride) without indices: 6 vertices in 48
+// bytes are read (a bound of 12 bytes per vertex refused them).
 TEST(Gltf, QuantizedPositionsWithoutIndices) {
   std::string bytes(48, '\0');
   const int16_t p[6][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 0}};

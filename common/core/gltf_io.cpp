@@ -560,7 +560,7 @@ struct GltfFile::Impl {
     if (model.scenes.size() > 1)
       parts.push_back(std::to_string(model.scenes.size() - 1) + " scene" +
                       (model.scenes.size() == 2 ? "" : "s") + " other than the default");
-    if (!model.nodes.empty()) {
+    if (!model.scenes.empty() && !model.nodes.empty()) {  // (without scenes every root shows)
       std::vector<uint8_t> shownNode(model.nodes.size(), 0), shownMesh(model.meshes.size(), 0);
       for (const Instance& i : instances)
         shownNode[static_cast<size_t>(i.node)] = 1;
@@ -1079,26 +1079,35 @@ std::optional<double> GltfFile::keyRate(size_t first, size_t count) const {
     const float f = static_cast<float>(std::abs(x));
     return static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity()) - f);
   };
-  // Evenly spaced at `rate`: every key within a thousandth of the spacing of t0 + k / rate,
-  // beyond the float32 rounding of both times.
-  const auto fits = [&](double rate) {
+  // How far the keys are from t0 + k / rate beyond the float32 rounding of both times (at most
+  // 0: exactly at it, as far as float32 tells), over all keys.
+  const auto excess = [&](double rate) {
+    double worst = -std::numeric_limits<double>::infinity();
     for (size_t k = 1; k < count; ++k)
-      if (std::abs(t(k) - (t0 + static_cast<double>(k) / rate)) >
-          1e-3 / rate + 2 * (ulp(t(k)) + ulp(t0)))
-        return false;
-    return true;
+      worst = std::max(
+          worst, std::abs(t(k) - (t0 + static_cast<double>(k) / rate)) - 2 * (ulp(t(k)) + ulp(t0)));
+    return worst;
   };
   const double raw = static_cast<double>(count - 1) / span;
-  // A simple rate when one fits: p / q (q up to 12: 25, 12.5, 7.5, ...), then p / (1.001 q)
-  // (29.97 = 30000 / 1001, 23.976, ...).
+  // Simple rates p / q (q up to 12: 25, 12.5, 7.5, ...) and p / (1.001 q) (29.97 = 30000 / 1001,
+  // 23.976, ...), simplest first: the first that the keys are exactly at, else the one they are
+  // nearest, when within a thousandth of its spacing (evenly spaced); else the mean spacing's.
+  std::vector<double> tried;
+  std::optional<double> best;
+  double bestExcess = std::numeric_limits<double>::infinity();
   for (int q = 1; q <= 12; ++q)
     for (const bool ntsc : {false, true}) {
       const double p = std::round(raw * q * (ntsc ? 1.001 : 1.0));
       if (p < 1) continue;
       const double rate = ntsc ? p * 1000 / (q * 1001.0) : p / q;
-      if (fits(rate)) return rate;
+      if (std::find(tried.begin(), tried.end(), rate) != tried.end()) continue;
+      tried.push_back(rate);
+      const double e = excess(rate);
+      if (e <= 0) return rate;
+      if (e <= 1e-3 / rate && e < bestExcess) best = rate, bestExcess = e;
     }
-  if (fits(raw)) return raw;
+  if (best) return best;
+  if (excess(raw) <= 1e-3 / raw) return raw;
   return std::nullopt;
 }
 
@@ -1244,12 +1253,16 @@ std::vector<float> toFloats(const Mesh& mesh) {
 // 5e-4 is scaled to it (one of length 0 cannot be, and is written as it is), and that is said
 // (what is changed is said, common/core/warnings.h). OBJ and PLY keep such normals exactly.
 void unitNormals(Mesh& mesh) {
-  size_t scaled = 0, zero = 0;
+  size_t scaled = 0, zero = 0, infinite = 0;
   for (Vec3f& n : mesh.attributes.normals) {
     const double length =
         std::sqrt(double{n[0]} * n[0] + double{n[1]} * n[1] + double{n[2]} * n[2]);
     if (std::abs(length - 1) <= 5e-4) continue;
-    if (!(length > 0) || !std::isfinite(length)) {
+    if (!std::isfinite(length)) {
+      ++infinite;
+      continue;
+    }
+    if (!(length > 0)) {
       ++zero;
       continue;
     }
@@ -1263,6 +1276,8 @@ void unitNormals(Mesh& mesh) {
         "glTF output: normals not of unit length are scaled to it (glTF requires unit NORMALs; "
         "OBJ and PLY output keep them as they are)");
   if (zero > 0) warn("glTF output: normals of length 0 are written as they are (not valid glTF)");
+  if (infinite > 0)
+    warn("glTF output: normals that are not finite are written as they are (not valid glTF)");
 }
 
 }  // namespace

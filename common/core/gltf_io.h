@@ -70,8 +70,9 @@ class GltfFile {
   // Frame k (k < frameCount()). Throws Error naming the file and the part at fault.
   Mesh frame(size_t k) const;
   // The frame rate of frames first .. first + count - 1 when their key times are evenly spaced
-  // (each within a thousandth of the spacing of its place, beyond float32 rounding): the first
-  // rate p / q or p / (1.001 q) (q = 1 .. 12) that fits, else (count - 1) / (last - first
+  // (each within a thousandth of the spacing of its place, beyond float32 rounding): of the
+  // rates p / q and p / (1.001 q) (q = 1 .. 12, simplest first), the first the keys are at
+  // within float32 rounding, else the one they are nearest; else (count - 1) / (last - first
   // time); nothing for fewer than two frames, frames not in the file or uneven key times.
   std::optional<double> keyRate(size_t first, size_t count) const;
 

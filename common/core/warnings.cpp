@@ -1,5 +1,6 @@
 #include "common/core/warnings.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <mutex>
@@ -27,10 +28,9 @@ struct OnceState {
   int depth = 0;
   int silenced = 0;  // open SilenceWarningsScopes
   std::set<std::string> said;
-  // warnForFile kinds said during the outermost scope -> their place in `counted`, which holds
-  // each with the number of files' messages not said, in the order the kinds were first said.
-  std::map<std::string, size_t> kinds;
-  std::vector<std::pair<std::string, size_t>> counted;
+  // warnForFile kinds said during the outermost scope -> (the order they were first said in,
+  // the number of files' messages not said).
+  std::map<std::string, std::pair<size_t, size_t>> kinds;
 };
 
 // At most this many distinct messages and kinds are remembered: past them, messages are said
@@ -112,13 +112,11 @@ void warnForFile(const std::string& kind, const std::string& message) {
     if (once.said.size() < kRemembered) once.said.insert(message);
     auto it = once.kinds.find(kind);
     if (it != once.kinds.end()) {
-      ++once.counted[it->second].second;
+      ++it->second.second;
       return;
     }
-    if (once.kinds.size() < kRemembered) {
-      once.kinds.emplace(kind, once.counted.size());
-      once.counted.emplace_back(kind, 0);
-    }
+    if (once.kinds.size() < kRemembered)
+      once.kinds.emplace(kind, std::pair<size_t, size_t>{once.kinds.size(), 0});
   }
   sayNow(message);
 }
@@ -133,20 +131,25 @@ WarnOnceScope::~WarnOnceScope() {
   OnceState& once = onceState();
   if (--once.depth > 0) return;
   once.said.clear();
-  once.kinds.clear();
-  std::vector<std::pair<std::string, size_t>> counted;
-  counted.swap(once.counted);
+  std::map<std::string, std::pair<size_t, size_t>> kinds;
+  kinds.swap(once.kinds);
   if (once.silenced > 0) return;
-  for (const auto& [kind, more] : counted)
-    if (more > 0) {
-      try {
-        sayNow(kind + ": the same in " + std::to_string(more) + " more file" +
-               (more == 1 ? "" : "s") + " or frame" + (more == 1 ? "" : "s"));
-      } catch (...) {
-        // A handler that throws cannot be answered from a destructor; the rest is not said.
-        return;
-      }
+  // In the order the kinds were first said.
+  std::vector<std::pair<size_t, std::string>> order;  // (first said, the line)
+  for (const auto& [kind, at] : kinds)
+    if (at.second > 0)
+      order.emplace_back(at.first, kind + ": the same in " + std::to_string(at.second) +
+                                       " more file" + (at.second == 1 ? "" : "s") + " or frame" +
+                                       (at.second == 1 ? "" : "s"));
+  std::sort(order.begin(), order.end());
+  for (const auto& [first, line] : order) {
+    try {
+      sayNow(line);
+    } catch (...) {
+      // A handler that throws cannot be answered from a destructor; the rest is not said.
+      return;
     }
+  }
 }
 
 SilenceWarningsScope::SilenceWarningsScope() {
