@@ -515,6 +515,25 @@ TEST_F(AppsTest, MalformedObjNamesTheLine) {
   expectFailure(kEncoder, encoderArgs(), {"in/003.obj:7: bad number 'three'"});
 }
 
+// A run that fails after readers warned: the warnings of the frames read, their closing count,
+// then the error, last (runApp closes the warnings' scope before it says the error).
+TEST_F(AppsTest, WarningCountsComeBeforeTheError) {
+  for (int f = 0; f < kFrames; ++f)
+    test::writeText(inputPath(f + 1), "mtllib skin.mtl\n" + formatObj(frames_[f]) +
+                                          (f == kFrames - 1 ? "v 1 2 three\n" : ""));
+  const CommandResult r = test::run(dir_, kEncoder, encoderArgs());
+  EXPECT_EQ(r.exitCode, 1) << r.err;
+  const std::vector<std::string> lines = test::lines(r.err);
+  ASSERT_GE(lines.size(), 3u) << r.err;
+  EXPECT_NE(lines[0].find("3dvo-enc: warning: in/001.obj:1: statements 3DVO does not code"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(lines[lines.size() - 2].find("the same in"), std::string::npos) << r.err;
+  EXPECT_EQ(lines.back().rfind("3dvo-enc: error: ", 0), 0u) << r.err;
+  EXPECT_NE(lines.back().find("in/006.obj:"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_.file("seq.3dvo")));
+}
+
 TEST_F(AppsTest, VertexCountDiffersInsideAGom) {
   // The last frame (number 6) gets one more vertex, unreferenced, in front.
   Mesh shifted = frames_[5];

@@ -28,10 +28,14 @@ int runApp(const char* app, Body body) {
   setWarningHandler([app](const std::string& message) {
     std::fprintf(stderr, "%s: warning: %s\n", app, message.c_str());
   });
-  // A file the run reads twice warns once.
-  WarnOnceScope once;
   try {
-    const int status = body();
+    int status = 0;
+    {
+      // A file the run reads twice warns once; the closing counts ("the same in N more
+      // files") are said when the body ends, before its error if it failed.
+      WarnOnceScope once;
+      status = body();
+    }
     // What the app printed (its report, its summary) must have reached standard output: a full
     // disk or a closed file there is an error, not a success with a lost report.
     errno = 0;
