@@ -398,6 +398,15 @@ class GomCoder : public GomUnits {
                                                    : "none in the input";
   }
 
+  // True when `a` gives every corner of every triangle the same normal as `b` does.
+  static bool sameNormalPerCorner(const MeshAttributes& a, const MeshAttributes& b) {
+    if (a.normalTriangles.size() != b.normalTriangles.size()) return false;
+    for (size_t t = 0; t < a.normalTriangles.size(); ++t)
+      for (int c = 0; c < 3; ++c)
+        if (a.normals[a.normalTriangles[t][c]] != b.normals[b.normalTriangles[t][c]]) return false;
+    return true;
+  }
+
   void checkAttributes() {
     for (size_t k = 0; k < inputs_.size(); ++k) {
       MeshAttributes& a = inputs_[k].attributes;
@@ -412,6 +421,7 @@ class GomCoder : public GomUnits {
     const MeshAttributes& first = inputs_[0].attributes;
     const bool pMeshes = params_.pmeshMode != PMeshMode::kIntra;
     bool normalsChange = false;
+    size_t reordered = 0, firstReordered = 0;  // frames listing the same normals otherwise
     for (size_t k = 1; pMeshes && k < inputs_.size(); ++k) {
       const MeshAttributes& a = inputs_[k].attributes;
       check(a.uvs == first.uvs && a.uvTriangles == first.uvTriangles,
@@ -423,7 +433,14 @@ class GomCoder : public GomUnits {
       check(a.hasNormals() == first.hasNormals(),
             name(k) + (a.hasNormals() ? ": has normals" : ": has no normals") +
                 ", unlike the GOM's first frame (" + name(0) + ")");
-      normalsChange |= a.normals != first.normals || a.normalTriangles != first.normalTriangles;
+      if (a.normals == first.normals && a.normalTriangles == first.normalTriangles) continue;
+      // Other lists that give every corner the same normal (another `vn` order): coded as the
+      // first frame's, exact per corner; only the list's order is the first frame's, said.
+      if (sameNormalPerCorner(a, first)) {
+        if (reordered++ == 0) firstReordered = k;
+      } else {
+        normalsChange = true;
+      }
     }
     const NormalsChoice choice = params_.normals;
     if (!pMeshes) {
@@ -451,6 +468,14 @@ class GomCoder : public GomUnits {
               "every frame: set Normals auto or computed, or use PMeshMode intra");
     const bool computed =
         choice == NormalsChoice::kComputed || (choice == NormalsChoice::kAuto && normalsChange);
+    if (!computed && reordered > 0)
+      out_.warnings.push_back(
+          name(firstReordered) +
+          (reordered > 1 ? " and " + std::to_string(reordered - 1) + " more frames of its GOM list"
+                         : " lists") +
+          " the normals of the GOM's first frame (" + name(0) +
+          ") in another order (the same normal at every corner): the decoded frames list them "
+          "in the first frame's order");
     normalMode_ = computed ? NormalMode::kComputed : NormalMode::kPerVertex;  // or per corner
     out_.normals = computed ? "computed by the decoder from each decoded frame" +
                                   std::string(normalsChange ? " (they change within the GOM)" : "")

@@ -450,6 +450,40 @@ TEST(AttributesRoundTrip, ChangingNormalsAreComputed) {
   EXPECT_TRUE(none.decoded[0].attributes.hasUvs());
 }
 
+// The same normal at every corner, listed in another order from frame 1 on (another `vn`
+// order): coded once, exact per corner, and the list order said; not computed.
+TEST(AttributesRoundTrip, ReorderedNormalsAreCodedExactlyPerCorner) {
+  std::vector<Mesh> frames = test::wobblingSphere(2, 4, 1.0);
+  test::addAttributes(frames, false, true);
+  for (size_t f = 1; f < frames.size(); ++f) {
+    MeshAttributes& a = frames[f].attributes;
+    const uint32_t last = static_cast<uint32_t>(a.normals.size() - 1);
+    std::reverse(a.normals.begin(), a.normals.end());
+    for (Triangle& t : a.normalTriangles)
+      for (uint32_t& i : t)
+        i = last - i;
+  }
+  const Coded c = roundTrip(frames, ".obj", "obj", ".obj", {"--GOMSize=4"}, 16, false);
+  EXPECT_NE(c.encoderErr.find("in/001.obj and 2 more frames of its GOM list the normals of the "
+                              "GOM's first frame (in/000.obj) in another order"),
+            std::string::npos)
+      << c.encoderErr;
+  EXPECT_NE(c.encoderErr.find("normals from frame 0 on: coded exactly, once per I mesh"),
+            std::string::npos)
+      << c.encoderErr;
+  ASSERT_EQ(c.decoded.size(), frames.size());
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const MeshAttributes &in = frames[f].attributes, &out = c.decoded[f].attributes;
+    ASSERT_EQ(out.normalTriangles.size(), in.normalTriangles.size()) << "frame " << f;
+    for (size_t t = 0; t < in.normalTriangles.size(); ++t)
+      for (int k = 0; k < 3; ++k)
+        ASSERT_EQ(out.normals[out.normalTriangles[t][k]], in.normals[in.normalTriangles[t][k]])
+            << "frame " << f << " triangle " << t;
+  }
+  // Normals coded accepts them too (nothing changes but the order).
+  roundTrip(frames, ".obj", "obj", ".obj", {"--GOMSize=4", "--Normals=coded"}, 16, false);
+}
+
 TEST(AttributesRoundTrip, EncoderRefusesWhatItWouldLose) {
   std::vector<Mesh> frames = test::wobblingSphere(1, 4);
   test::addAttributes(frames, true);
