@@ -50,17 +50,27 @@ int main(int argc, char** argv) {
     std::optional<GltfFile> animation;
     if (!params.inputMeshPattern.empty() && isMeshAnimationFile(params.inputMeshPattern)) {
       animation.emplace(params.inputMeshPattern);
+      // The frames coded: FirstFrame .. FirstFrame + FrameCount - 1 of its keyframes
+      // (FrameCount not set: to the last, at most kMaxFrames).
+      const int64_t frames = static_cast<int64_t>(animation->frameCount());
+      check(params.firstFrame < frames,
+            params.inputMeshPattern + ": FirstFrame " + std::to_string(params.firstFrame) +
+                " is not a frame of the animation (its frames are 0 .. " +
+                std::to_string(frames - 1) + ")");
+      if (params.frameCount == 0)
+        params.frameCount = static_cast<int>(
+            std::min<int64_t>(frames - params.firstFrame, static_cast<int64_t>(kMaxFrames)));
+      check(int64_t{params.firstFrame} + params.frameCount <= frames,
+            params.inputMeshPattern + ": FirstFrame + FrameCount - 1 = " +
+                std::to_string(int64_t{params.firstFrame} + params.frameCount - 1) +
+                " is past the animation's last frame " + std::to_string(frames - 1));
       // FrameRate not set (and no Dataset, whose frames.rate the camera images follow): the
       // key times' rate when they are evenly spaced, which the stream then carries (and a
       // decoded animation file's key times); else the default, said. Before the effective
       // configuration, which then shows it.
-      const size_t frames = animation->frameCount();
       const size_t first = static_cast<size_t>(params.firstFrame);
-      const size_t count = params.frameCount > 0 ? static_cast<size_t>(params.frameCount)
-                           : first < frames      ? std::min<size_t>(frames - first, kMaxFrames)
-                                                 : 0;
-      if (!encoder.dataset() && !encoder.wasSet("FrameRate") && count > 1 && first < frames &&
-          count <= frames - first) {
+      const size_t count = static_cast<size_t>(params.frameCount);
+      if (!encoder.dataset() && !encoder.wasSet("FrameRate") && count > 1) {
         const std::optional<double> rate = animation->keyRate(first, count);
         const std::string keys = params.inputMeshPattern + ": the key times of keyframes " +
                                  std::to_string(first) + " .. " + std::to_string(first + count - 1);
@@ -90,20 +100,8 @@ int main(int argc, char** argv) {
     FrameSource source;
     const Dataset* input = encoder.dataset();  // the dataset, when given
     if (animation) {
-      const int64_t frames = static_cast<int64_t>(animation->frameCount());
-      check(params.firstFrame < frames,
-            params.inputMeshPattern + ": FirstFrame " + std::to_string(params.firstFrame) +
-                " is not a frame of the animation (its frames are 0 .. " +
-                std::to_string(frames - 1) + ")");
-      if (params.frameCount == 0)
-        params.frameCount = static_cast<int>(
-            std::min<int64_t>(frames - params.firstFrame, static_cast<int64_t>(kMaxFrames)));
-      check(int64_t{params.firstFrame} + params.frameCount <= frames,
-            params.inputMeshPattern + ": FirstFrame + FrameCount - 1 = " +
-                std::to_string(int64_t{params.firstFrame} + params.frameCount - 1) +
-                " is past the animation's last frame " + std::to_string(frames - 1));
-      std::printf("# input frames: %d of the %lld keyframes of %s\n", params.frameCount,
-                  static_cast<long long>(frames), params.inputMeshPattern.c_str());
+      std::printf("# input frames: %d of the %zu keyframes of %s\n", params.frameCount,
+                  animation->frameCount(), params.inputMeshPattern.c_str());
     }
     // FrameCount not set: every frame from FirstFrame until the first missing file.
     std::string found;

@@ -330,31 +330,27 @@ class PlyParser {
     // `list` names what and how much; `kind` what only, the same for every file that leaves
     // the same things out (common/core/warnings.h, warnForFile).
     std::string list, kind;
+    const auto add = [&list, &kind](const std::string& what, const std::string& amount,
+                                    const char* close = "") {
+      list += (list.empty() ? "" : "; ") + what + amount + close;
+      kind += (kind.empty() ? "" : "; ") + what + close;
+    };
     for (const Element& e : elements_) {
       if (e.isVertex || e.isFace) {
         std::string names;
         size_t count = 0;
         for (size_t i = 0; i < e.properties.size(); ++i)
-          if (e.roles[i] == Role::kSkip) {
-            names += (count++ ? ", " : "") + e.properties[i].name;
-          }
-        if (count > 0 && e.count > 0) {
-          const std::string what = e.name + " propert" + (count == 1 ? "y " : "ies ") + names;
-          list += std::string(list.empty() ? "" : "; ") + what;
-          kind += std::string(kind.empty() ? "" : "; ") + what;
-        }
+          if (e.roles[i] == Role::kSkip) names += (count++ ? ", " : "") + e.properties[i].name;
+        if (count > 0 && e.count > 0)
+          add(e.name + " propert" + (count == 1 ? "y " : "ies ") + names, "");
       } else if (e.count > 0) {
-        list += std::string(list.empty() ? "" : "; ") + "element " + e.name + " (" +
-                std::to_string(e.count) + (e.count == 1 ? " record)" : " records)");
-        kind += std::string(kind.empty() ? "" : "; ") + "element " + e.name;
+        add("element " + e.name,
+            " (" + std::to_string(e.count) + (e.count == 1 ? " record)" : " records)"));
       }
     }
-    if (textureFileLine_ > 0) {
-      const std::string what = "the texture image's name (comment TextureFile";
-      list += std::string(list.empty() ? "" : "; ") + what + ", header line " +
-              std::to_string(textureFileLine_) + ")";
-      kind += std::string(kind.empty() ? "" : "; ") + what + ")";
-    }
+    if (textureFileLine_ > 0)
+      add("the texture image's name (comment TextureFile",
+          ", header line " + std::to_string(textureFileLine_), ")");
     if (!list.empty())
       warnForFile("left out (not read): " + kind, name_ + ": left out (not read): " + list);
   }

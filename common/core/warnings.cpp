@@ -56,7 +56,9 @@ WarningHandler setWarningHandler(WarningHandler h) {
   return std::exchange(handler(), std::move(h));
 }
 
-thread_local WarningHold* tHold = nullptr;
+namespace {
+thread_local WarningHold* tHold = nullptr;  // this thread's innermost WarningHold
+}  // namespace
 
 // True when this thread's innermost WarningHold kept the warning (kind null: warn()'s).
 bool holdWarning(const std::string* kind, const std::string& message) {
