@@ -222,6 +222,10 @@ void codeAttributes(Io& io, const AttributesUnit& at, uint32_t numVertices,
     const bool perCorner = uvMode == UvMode::kPerCorner;
     const uint32_t count = perCorner ? at.at_num_uvs : numVertices;
     if (!Io::kReading) io.require(m.uvs.size() == count, "at_uv values: wrong count");
+    if (!Io::kReading)
+      io.require(m.uvOrigin == static_cast<UvOrigin>(at.at_uv_origin),
+                 "at_uv_origin: not the values'");
+    m.uvOrigin = static_cast<UvOrigin>(at.at_uv_origin);
     if (perCorner)
       codeIndices(io, "at_uv_same", "at_uv_new", "at_uv_index", ctx.uvSame, ctx.uvNew, ctx.uvIndex,
                   triangles, numVertices, m.uvTriangles, count);

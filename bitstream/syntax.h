@@ -28,7 +28,8 @@ std::vector<uint8_t> serialise(T value) {
 // sh_attributes_present (read as 0), which is the only place the versions differ. Version 4
 // adds B meshes (gh_pmesh_mode kGhD3dmcBMeshes); its streams without them are version 3's but
 // for sh_syntax_version. Version 5 adds im_quant_step to the I mesh (read as 1 before).
-constexpr uint16_t kSyntaxVersion = 5;
+// Version 6 adds at_uv_origin to the ATTRIBUTES unit (read as 0, the bottom row, before).
+constexpr uint16_t kSyntaxVersion = 6;
 constexpr uint16_t kMinSyntaxVersion = 2;
 
 // Limits a decoder checks before it allocates anything (docs/bitstream.md, "Limits").
@@ -344,17 +345,24 @@ constexpr int32_t kMaxAttributeQuantValue = (1 << 24) - 1;
 
 struct AttributesUnit {
   uint32_t at_frame = 0;
-  uint8_t at_uv_mode = 0;            // UvMode
-  uint8_t at_uv_quant_bits = 0;      // at_uv_mode != 0; 0: the float32 values exactly
+  uint8_t at_uv_mode = 0;        // UvMode
+  uint8_t at_uv_quant_bits = 0;  // at_uv_mode != 0; 0: the float32 values exactly
+  // at_uv_mode != 0, syntax version 6 on (0 before): where v = 0 lies in the texture image,
+  // a UvOrigin (0: its bottom row, as in OBJ and PLY; 1: its top row, as in glTF). The
+  // values are coded as given; a decoder writing a format of the other origin writes 1 - v.
+  uint8_t at_uv_origin = 0;
   uint32_t at_num_uvs = 0;           // at_uv_mode 2
   uint8_t at_normal_mode = 0;        // NormalMode
   uint8_t at_normal_quant_bits = 0;  // at_normal_mode 1 or 2; 0: exactly
   uint32_t at_num_normals = 0;       // at_normal_mode 2
   std::vector<uint8_t> at_cabac_payload;
   // Not coded: the bound of at_num_uvs and at_num_normals, 3 x the output triangles of the I
-  // mesh (set before parsing).
+  // mesh (set before parsing), and the stream's sh_syntax_version.
   uint32_t maxValues = 0;
+  uint16_t syntaxVersion = kSyntaxVersion;
 };
+
+constexpr uint16_t kMinUvOriginSyntaxVersion = 6;
 
 template <class Io>
 void transfer(Io& io, AttributesUnit& at) {
@@ -362,6 +370,11 @@ void transfer(Io& io, AttributesUnit& at) {
   io.u8("at_uv_mode", at.at_uv_mode, 0, 2);
   if (at.at_uv_mode != static_cast<uint8_t>(UvMode::kNone))
     io.u8("at_uv_quant_bits", at.at_uv_quant_bits, 0, kMaxAttributeQuantBits);
+  if (at.at_uv_mode != static_cast<uint8_t>(UvMode::kNone) &&
+      at.syntaxVersion >= kMinUvOriginSyntaxVersion)
+    io.u8("at_uv_origin", at.at_uv_origin, 0, 1);
+  else if (Io::kReading)
+    at.at_uv_origin = 0;
   if (at.at_uv_mode == static_cast<uint8_t>(UvMode::kPerCorner))
     io.u32("at_num_uvs", at.at_num_uvs, 1, at.maxValues);
   io.u8("at_normal_mode", at.at_normal_mode, 0, 3);

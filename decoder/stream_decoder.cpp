@@ -453,6 +453,7 @@ IntMesh StreamDecoder::Decoding::readIMesh(uint32_t frame, uint32_t frames) {
 void StreamDecoder::Decoding::readAttributes(uint32_t frame) {
   expectUnit(UnitType::kAttributes, "after the vertex order of " + frameName(frame));
   AttributesUnit at;
+  at.syntaxVersion = sh_.sh_syntax_version;
   // Values beyond the output's corners would be values no corner uses: their bound.
   at.maxValues = static_cast<uint32_t>(std::min<size_t>(3 * order_.triangles.size(), UINT32_MAX));
   parseUnitInto(unit_, name_, trace_, "the attributes", at);

@@ -172,6 +172,8 @@ AttributesEncoding encodeAttributes(const IntMesh& input, const IMeshEncoding& i
     at.at_num_normals = static_cast<uint32_t>(m.normals.size());
   }
   if (at.at_uv_mode != 0) {
+    at.at_uv_origin = static_cast<uint8_t>(in.uvOrigin);
+    m.uvOrigin = in.uvOrigin;
     at.at_uv_quant_bits = static_cast<uint8_t>(uvQuantBits);
     checkQuantisable(m.uvs, uvQuantBits, name, "texture coordinate", "UVQuantBits");
   }

@@ -424,7 +424,8 @@ class GomCoder : public GomUnits {
     size_t reordered = 0, firstReordered = 0;  // frames listing the same normals otherwise
     for (size_t k = 1; pMeshes && k < inputs_.size(); ++k) {
       const MeshAttributes& a = inputs_[k].attributes;
-      check(a.uvs == first.uvs && a.uvTriangles == first.uvTriangles,
+      check(a.uvs == first.uvs && a.uvTriangles == first.uvTriangles &&
+                (a.uvs.empty() || a.uvOrigin == first.uvOrigin),
             name(k) + ": texture coordinates differ from those of the GOM's first frame (" +
                 name(0) +
                 "); a GOM of P meshes carries its I mesh's texture coordinates for "

@@ -54,7 +54,7 @@ bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
 // `out` is `in` with its attributes made per vertex (or as they were): the first vertices are
 // in's within `tolerance`, in order; further ones are copies at seams; every triangle corner
 // uses in's vertex or a copy of it; and every corner's texture coordinate and normal is in's,
-// bit for bit (normals only when `normals`).
+// bit for bit (normals only when `normals`; texture coordinates in out's convention).
 void expectSameSurface(const Mesh& in, const Mesh& out, double tolerance, const std::string& what,
                        bool normals = true) {
   ASSERT_GE(out.positions.size(), in.positions.size()) << what;
@@ -74,7 +74,10 @@ void expectSameSurface(const Mesh& in, const Mesh& out, double tolerance, const 
   const MeshAttributes &a = in.attributes, &b = out.attributes;
   ASSERT_EQ(a.hasUvs(), b.hasUvs()) << what;
   if (a.hasUvs()) {
-    EXPECT_TRUE(sameBits(perCorner(a.uvs, a.uvTriangles), perCorner(b.uvs, b.uvTriangles)))
+    // In out's convention (v = 0 at the image's bottom or top row): exactly 1 - v when the
+    // formats differ, as the writers convert.
+    EXPECT_TRUE(
+        sameBits(perCorner(uvsFrom(a, b.uvOrigin), a.uvTriangles), perCorner(b.uvs, b.uvTriangles)))
         << what << ": texture coordinates";
   }
   if (!normals) return;
@@ -362,15 +365,20 @@ struct Coded {
 
 // Encodes `frames` written as `inExt` with `options`, decodes with --MeshFormat=`outFormat`.
 // Normals are compared unless `normalsKept` is false (computed or dropped).
-Coded roundTrip(const std::vector<Mesh>& frames, const std::string& inExt,
+Coded roundTrip(const std::vector<Mesh>& given, const std::string& inExt,
                 const std::string& outFormat, const std::string& outExt,
                 const std::vector<std::string>& options, int bits = 16, bool normalsKept = true) {
   test::TempDir dir("attributes-roundtrip");
   std::filesystem::create_directories(dir.path() / "in");
-  for (size_t f = 0; f < frames.size(); ++f) {
+  // The input files; the frames compared with the output are what they hold (a glTF file's
+  // seams split and v measured from the top row).
+  std::vector<Mesh> frames;
+  for (size_t f = 0; f < given.size(); ++f) {
     const std::string path = dir.file("in/" + framePath("%03d", static_cast<int>(f)) + inExt);
-    if (inExt == ".obj") writeObj(path, frames[f]);
-    if (inExt == ".ply") writePly(path, frames[f]);
+    if (inExt == ".obj") writeObj(path, given[f]);
+    if (inExt == ".ply") writePly(path, given[f]);
+    if (inExt == ".gltf") writeGltf(path, given[f], GltfContainer::kGltf);
+    frames.push_back(inExt == ".gltf" ? readMesh(path) : given[f]);
   }
   std::vector<std::string> args = {"--InputMeshPattern=in/%03d" + inExt,
                                    "--FrameCount=" + std::to_string(frames.size()),
@@ -413,6 +421,30 @@ TEST(AttributesRoundTrip, ObjToGltfWithPMeshes) {
   const Coded obj = roundTrip(frames, ".obj", "obj", ".obj", {"--GOMSize=3"});
   for (size_t f = 0; f < frames.size(); ++f)
     EXPECT_EQ(obj.decoded[f].attributes, frames[f].attributes) << "frame " << f;
+}
+
+// glTF input: texture coordinates whose v = 0 is the image's top row (at_uv_origin 1) come out
+// of a glTF exactly and of an OBJ or PLY as 1 - v (expectSameSurface compares in the output's
+// convention), so a texture image shows the same way through every format.
+TEST(AttributesRoundTrip, GltfTextureCoordinatesKeepTheirImage) {
+  std::vector<Mesh> frames = test::wobblingSphere(2, 4, 1.0, {3, -2, 1});
+  test::addAttributes(frames, true, true);
+  const Coded gltf = roundTrip(frames, ".gltf", "gltf", ".gltf", {"--GOMSize=4"});
+  ASSERT_EQ(gltf.decoded.size(), frames.size());
+  EXPECT_EQ(gltf.decoded[0].attributes.uvOrigin, UvOrigin::kTop);
+  const Coded obj = roundTrip(frames, ".gltf", "obj", ".obj", {"--GOMSize=4"});
+  ASSERT_EQ(obj.decoded.size(), frames.size());
+  EXPECT_EQ(obj.decoded[0].attributes.uvOrigin, UvOrigin::kBottom);
+  roundTrip(frames, ".gltf", "ply", ".ply", {"--PMeshMode=intra"});
+  // Within a float32 rounding (of values below 2 here) of those the glTF was made from:
+  // 1 - (1 - v).
+  const MeshAttributes &in = frames[0].attributes, &out = obj.decoded[0].attributes;
+  ASSERT_EQ(out.uvTriangles.size(), in.uvTriangles.size());
+  for (size_t t = 0; t < in.uvTriangles.size(); ++t)
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 2; ++k)
+        ASSERT_NEAR(out.uvs[out.uvTriangles[t][c]][k], in.uvs[in.uvTriangles[t][c]][k], 2.5e-7)
+            << "triangle " << t;
 }
 
 // PLY with per-vertex attributes, normals changing every frame: intra GOMs code every frame's

@@ -1313,7 +1313,8 @@ std::vector<Unit> attributeUnits() {
 }
 
 // Byte offsets in the ATTRIBUTES payload (per-corner texture coordinates, per-vertex normals).
-constexpr size_t kAtFrame = 0, kAtUvMode = 4, kAtNumUvs = 6, kAtNormalMode = 10, kAtPayload = 12;
+constexpr size_t kAtFrame = 0, kAtUvMode = 4, kAtUvOrigin = 6, kAtNumUvs = 7, kAtNormalMode = 11,
+                 kAtPayload = 13;
 constexpr size_t kShAttributesPresent = kShStep + 8;
 
 CATALOGUE_TEST(A01) {
@@ -1408,8 +1409,15 @@ CATALOGUE_TEST(A10) {
   expectUnitsRow("A10", units);
 }
 
+CATALOGUE_TEST(A11) {
+  std::vector<Unit> units = attributeUnits();
+  ASSERT_EQ(units[4].payload[kAtUvOrigin], 0);  // OBJ's convention, as the frames give it
+  units[4].payload[kAtUvOrigin] = 2;
+  expectUnitsRow("A11", units);
+}
+
 // The ATTRIBUTES base stream itself decodes, with its attributes in every frame (the helper is
-// not the cause of A02-A10).
+// not the cause of A02-A11).
 TEST(Attributes, BaseStreamDecodes) {
   const std::vector<uint8_t> stream = join(attributeUnits());
   StreamDecoder decoder(stream.data(), stream.size(), "in.3dvo");

@@ -955,6 +955,7 @@ struct GltfFile::Impl {
       }
     }
     if (uvs) mesh.attributes.uvTriangles = mesh.triangles;  // per vertex
+    if (uvs) mesh.attributes.uvOrigin = UvOrigin::kTop;     // glTF's v = 0: the top row
     if (normals) mesh.attributes.normalTriangles = mesh.triangles;
     const std::string frameName = frameLabel(k);
     if (mesh.positions.empty()) fail(frameName + "no vertices");
@@ -1286,6 +1287,7 @@ std::string formatGltf(const Mesh& input, GltfContainer container) {
   tinygltf::Model model = newModel();
   // glTF attributes are per vertex: seams are split into appended vertex copies.
   Mesh mesh = splitAttributeSeams(input);
+  setUvOrigin(mesh.attributes, UvOrigin::kTop);  // glTF's v = 0: the image's top row
   unitNormals(mesh);
   const std::vector<float> xyz = toFloats(mesh);
   tinygltf::Primitive prim;
@@ -1335,6 +1337,7 @@ void GltfAnimationWriter::add(const Mesh& input) {
                 formatDouble(frameRate_) + ", is beyond float32 (glTF's key times)");
   vertexFrames_ += input.positions.size();
   Mesh frame = splitAttributeSeams(input);  // per-vertex attributes, as formatGltf
+  setUvOrigin(frame.attributes, UvOrigin::kTop);
   unitNormals(frame);
   const size_t inRun = runs_.empty() ? 0 : frames_ - runs_.back().first;
   const bool normals = frame.attributes.hasNormals();

@@ -82,6 +82,9 @@ Md5Digest geometryDigest(const IntMesh& mesh) {
   if (!a.empty()) {
     putAttribute(a.uvs, a.uvTriangles);
     putAttribute(a.normals, a.normalTriangles);
+    // Texture coordinates whose v = 0 is the image's top row (at_uv_origin 1) add a 1; those of
+    // the bottom row (0, every stream before syntax version 6) hash as before.
+    if (a.hasUvs() && a.uvOrigin == UvOrigin::kTop) put(1);
   }
   md5.update(buffer, used);
   return md5.finish();

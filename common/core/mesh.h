@@ -45,6 +45,10 @@ inline std::string coordinateText(double c) {
   return text;
 }
 
+// Where a texture coordinate's v = 0 lies in the image: its bottom row, as in OBJ and PLY
+// (Wavefront's and OpenGL's convention), or its top row, as in glTF.
+enum class UvOrigin : uint8_t { kBottom = 0, kTop = 1 };
+
 // Texture coordinates and normals of a mesh, each a list of values and one index triangle per
 // triangle of the mesh (corner c of triangle t takes uvs[uvTriangles[t][c]]), as OBJ's
 // `f v/vt/vn` gives them. Per-vertex attributes (PLY, glTF) have index triangles equal to the
@@ -56,13 +60,17 @@ struct MeshAttributes {
   std::vector<Triangle> uvTriangles;
   std::vector<Vec3f> normals;
   std::vector<Triangle> normalTriangles;
+  // Where v = 0 lies in the texture image. The readers set it (glTF: kTop), the stream
+  // carries it (at_uv_origin), and each writer converts to its format's (v -> 1 - v): a
+  // texture made for an OBJ shows the same way through the decoded glTF.
+  UvOrigin uvOrigin = UvOrigin::kBottom;
 
   bool hasUvs() const { return !uvs.empty(); }
   bool hasNormals() const { return !normals.empty(); }
   bool empty() const { return !hasUvs() && !hasNormals(); }
   bool operator==(const MeshAttributes& o) const {
     return uvs == o.uvs && uvTriangles == o.uvTriangles && normals == o.normals &&
-           normalTriangles == o.normalTriangles;
+           normalTriangles == o.normalTriangles && (uvs.empty() || uvOrigin == o.uvOrigin);
   }
   bool operator!=(const MeshAttributes& o) const { return !(*this == o); }
 };

@@ -17,6 +17,19 @@ bool perVertex(const std::vector<Triangle>& indices, size_t values, const Mesh& 
 
 }  // namespace
 
+std::vector<Vec2f> uvsFrom(const MeshAttributes& a, UvOrigin origin) {
+  std::vector<Vec2f> uvs = a.uvs;
+  if (a.uvOrigin != origin)
+    for (Vec2f& uv : uvs)
+      uv[1] = 1.0f - uv[1];
+  return uvs;
+}
+
+void setUvOrigin(MeshAttributes& a, UvOrigin origin) {
+  if (a.uvOrigin != origin) a.uvs = uvsFrom(a, origin);
+  a.uvOrigin = origin;
+}
+
 bool attributesPerVertex(const Mesh& mesh) {
   const MeshAttributes& a = mesh.attributes;
   return (!a.hasUvs() || perVertex(a.uvTriangles, a.uvs.size(), mesh)) &&
@@ -65,6 +78,7 @@ Mesh splitAttributeSeams(const Mesh& mesh, size_t* copies) {
   }
   if (uvs) out.attributes.uvTriangles = out.triangles;
   if (normals) out.attributes.normalTriangles = out.triangles;
+  out.attributes.uvOrigin = in.uvOrigin;
   return out;
 }
 

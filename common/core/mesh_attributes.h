@@ -11,6 +11,12 @@
 
 namespace tdvo {
 
+// `a`'s texture coordinates with v measured from `origin`: v -> 1 - v (in float) when `a`'s
+// origin is the other one, else as they are. The writers use it for their format's origin.
+std::vector<Vec2f> uvsFrom(const MeshAttributes& a, UvOrigin origin);
+// Converts `a`'s texture coordinates to `origin` (uvsFrom) and sets a.uvOrigin.
+void setUvOrigin(MeshAttributes& a, UvOrigin origin);
+
 // True when every present attribute is per vertex: its index triangles are the mesh's
 // triangles and it has one value per vertex.
 bool attributesPerVertex(const Mesh& mesh);

@@ -8,6 +8,7 @@
 
 #include "common/core/error.h"
 #include "common/core/file_io.h"
+#include "common/core/mesh_attributes.h"
 #include "common/core/number_text.h"
 #include "common/core/text_tokens.h"
 #include "common/core/warnings.h"
@@ -390,8 +391,11 @@ std::string formatObj(const Mesh& mesh) {
     appendLine(out, "v", p);
   // Texture coordinates and normals in the shortest decimal form that reads back to the same
   // float.
+  // OBJ's v = 0 is the image's bottom row.
+  std::vector<Vec2f> converted;
+  if (uvs && at.uvOrigin != UvOrigin::kBottom) converted = uvsFrom(at, UvOrigin::kBottom);
   if (uvs)
-    for (const Vec2f& t : at.uvs)
+    for (const Vec2f& t : at.uvOrigin == UvOrigin::kBottom ? at.uvs : converted)
       appendLine(out, "vt", t);
   if (normals)
     for (const Vec3f& n : at.normals)

@@ -709,7 +709,8 @@ Mesh readPly(const std::string& path) {
 std::string formatPly(const Mesh& input, PlyEncoding encoding) {
   // PLY attributes are per vertex: seams are split into appended vertex copies (mesh_attributes.h).
   size_t copies = 0;
-  const Mesh split = splitAttributeSeams(input, &copies);
+  Mesh split = splitAttributeSeams(input, &copies);
+  setUvOrigin(split.attributes, UvOrigin::kBottom);  // PLY's v = 0: the image's bottom row
   const Mesh& mesh = split;
   const bool uvs = mesh.attributes.hasUvs(), normals = mesh.attributes.hasNormals();
   const bool ascii = encoding == PlyEncoding::kAscii;

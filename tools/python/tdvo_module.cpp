@@ -509,6 +509,14 @@ PYBIND11_MODULE(_tdvo, m) {
                                const auto& f = self.cast<const Frame&>().frame;
                                return viewOrNone(self, f.mesh.attributes.uvs);
                              })
+      // Where v = 0 lies in the texture image, as the input gave it: "bottom" (OBJ, PLY) or
+      // "top" (glTF); None without texture coordinates.
+      .def_property_readonly("uv_origin",
+                             [](py::handle self) -> py::object {
+                               const auto& a = self.cast<const Frame&>().frame.mesh.attributes;
+                               if (!a.hasUvs()) return py::none();
+                               return py::str(a.uvOrigin == UvOrigin::kTop ? "top" : "bottom");
+                             })
       .def_property_readonly("uv_triangles",
                              [](py::handle self) {
                                const auto& f = self.cast<const Frame&>().frame;

@@ -226,6 +226,10 @@ def test_texture_coordinates_and_normals():
         assert frame.normals.shape[1] == 3
         assert int(frame.normal_triangles.max()) < len(frame.normals)
     assert not frame.uvs.flags.writeable
+    assert frame.uv_origin == "bottom"  # OBJ's: v = 0 at the image's bottom row
+    gltf = next(iter(tdvo.Decoder(str(CONFORMANCE / "streams" / "d3dmc_attributes_gltf_g6.3dvo"))))
+    assert gltf.uv_origin == "top"  # glTF's
     plain = next(iter(tdvo.Decoder(str(CONFORMANCE / "streams" / "d3dmc_q4_g5.3dvo"))))
     assert plain.uvs is None and plain.normals is None and plain.uv_triangles is None
+    assert plain.uv_origin is None
 
