@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -398,13 +399,22 @@ class GomCoder : public GomUnits {
                                                    : "none in the input";
   }
 
-  // True when `a` gives every corner of every triangle the same normal as `b` does.
-  static bool sameNormalPerCorner(const MeshAttributes& a, const MeshAttributes& b) {
-    if (a.normalTriangles.size() != b.normalTriangles.size()) return false;
-    for (size_t t = 0; t < a.normalTriangles.size(); ++t)
+  // How a frame's attribute (values and index triangles) compares with the GOM's first frame's,
+  // bit for bit (-0 is not 0; a NaN is itself): the same lists, other lists that give every
+  // corner the same value (another `vt` or `vn` order), or different.
+  enum class Same { kLists, kPerCorner, kNot };
+  template <class V>
+  static Same compare(const std::vector<V>& a, const std::vector<Triangle>& aIndices,
+                      const std::vector<V>& b, const std::vector<Triangle>& bIndices) {
+    const auto same = [](const V& x, const V& y) { return std::memcmp(&x, &y, sizeof(V)) == 0; };
+    if (aIndices.size() != bIndices.size()) return Same::kNot;
+    if (a.size() == b.size() && aIndices == bIndices &&
+        std::equal(a.begin(), a.end(), b.begin(), same))
+      return Same::kLists;
+    for (size_t t = 0; t < aIndices.size(); ++t)
       for (int c = 0; c < 3; ++c)
-        if (a.normals[a.normalTriangles[t][c]] != b.normals[b.normalTriangles[t][c]]) return false;
-    return true;
+        if (!same(a[aIndices[t][c]], b[bIndices[t][c]])) return Same::kNot;
+    return Same::kPerCorner;
   }
 
   void checkAttributes() {
@@ -421,28 +431,49 @@ class GomCoder : public GomUnits {
     const MeshAttributes& first = inputs_[0].attributes;
     const bool pMeshes = params_.pmeshMode != PMeshMode::kIntra;
     bool normalsChange = false;
-    size_t reordered = 0, firstReordered = 0;  // frames listing the same normals otherwise
+    // Frames whose lists give every corner the first frame's values in another order: coded as
+    // the first frame's, exact per corner; only the list order is the first frame's, said.
+    struct Reordered {
+      size_t count = 0, first = 0;
+    } uvsReordered, normalsReordered;
+    const auto row = [](const MeshAttributes& m) {
+      return m.uvOrigin == UvOrigin::kTop ? "top row (glTF's convention)"
+                                          : "bottom row (OBJ's and PLY's convention)";
+    };
+    const std::string intraHint =
+        "; a GOM of P meshes carries its I mesh's texture coordinates for every frame: use "
+        "shorter GOMs (GOMSize, GOMListFile) or PMeshMode intra";
     for (size_t k = 1; pMeshes && k < inputs_.size(); ++k) {
       const MeshAttributes& a = inputs_[k].attributes;
-      check(a.uvs == first.uvs && a.uvTriangles == first.uvTriangles &&
-                (a.uvs.empty() || a.uvOrigin == first.uvOrigin),
-            name(k) + ": texture coordinates differ from those of the GOM's first frame (" +
-                name(0) +
-                "); a GOM of P meshes carries its I mesh's texture coordinates for "
-                "every frame: use shorter GOMs (GOMSize, GOMListFile) or PMeshMode "
-                "intra");
+      const Same uvs = compare(a.uvs, a.uvTriangles, first.uvs, first.uvTriangles);
+      check(uvs != Same::kNot, name(k) +
+                                   ": texture coordinates differ from those of the GOM's first "
+                                   "frame (" +
+                                   name(0) + ")" + intraHint);
+      check(a.uvs.empty() || a.uvOrigin == first.uvOrigin,
+            name(k) + ": texture coordinates measured from the image's " + row(a) +
+                ", those of the GOM's first frame (" + name(0) + ") from its " + row(first) +
+                intraHint);
+      if (uvs == Same::kPerCorner && uvsReordered.count++ == 0) uvsReordered.first = k;
       check(a.hasNormals() == first.hasNormals(),
             name(k) + (a.hasNormals() ? ": has normals" : ": has no normals") +
                 ", unlike the GOM's first frame (" + name(0) + ")");
-      if (a.normals == first.normals && a.normalTriangles == first.normalTriangles) continue;
-      // Other lists that give every corner the same normal (another `vn` order): coded as the
-      // first frame's, exact per corner; only the list's order is the first frame's, said.
-      if (sameNormalPerCorner(a, first)) {
-        if (reordered++ == 0) firstReordered = k;
-      } else {
-        normalsChange = true;
-      }
+      const Same normals =
+          compare(a.normals, a.normalTriangles, first.normals, first.normalTriangles);
+      if (normals == Same::kPerCorner && normalsReordered.count++ == 0) normalsReordered.first = k;
+      normalsChange |= normals == Same::kNot;
     }
+    const auto sayReordered = [this](const Reordered& r, const char* what) {
+      if (r.count == 0) return;
+      out_.warnings.push_back(
+          name(r.first) +
+          (r.count > 1 ? " and " + std::to_string(r.count - 1) + " more frames of its GOM list"
+                       : " lists") +
+          " the " + what + " of the GOM's first frame (" + name(0) +
+          ") in another order (the same value at every corner): the decoded frames list them "
+          "in the first frame's order");
+    };
+    sayReordered(uvsReordered, "texture coordinates");
     const NormalsChoice choice = params_.normals;
     if (!pMeshes) {
       // Every frame is an I mesh: its own normals, coded exactly unless Normals computed.
@@ -469,14 +500,7 @@ class GomCoder : public GomUnits {
               "every frame: set Normals auto or computed, or use PMeshMode intra");
     const bool computed =
         choice == NormalsChoice::kComputed || (choice == NormalsChoice::kAuto && normalsChange);
-    if (!computed && reordered > 0)
-      out_.warnings.push_back(
-          name(firstReordered) +
-          (reordered > 1 ? " and " + std::to_string(reordered - 1) + " more frames of its GOM list"
-                         : " lists") +
-          " the normals of the GOM's first frame (" + name(0) +
-          ") in another order (the same normal at every corner): the decoded frames list them "
-          "in the first frame's order");
+    if (!computed) sayReordered(normalsReordered, "normals");
     normalMode_ = computed ? NormalMode::kComputed : NormalMode::kPerVertex;  // or per corner
     out_.normals = computed ? "computed by the decoder from each decoded frame" +
                                   std::string(normalsChange ? " (they change within the GOM)" : "")

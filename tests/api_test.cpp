@@ -580,6 +580,19 @@ TEST(EncoderApi, BadFramesAndKeysAreErrors) {
   }
   bad[0].attributes.uvTriangles.pop_back();
   EXPECT_THROW(encoder.encode(bad), Error);
+  // The same values measured from the other row of the image (glTF's) in a GOM of P meshes.
+  bad[0].attributes.uvTriangles.assign(bad[0].triangles.size(), Triangle{0, 0, 0});
+  bad[2].attributes.uvOrigin = UvOrigin::kTop;
+  try {
+    encoder.encode(bad);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("frame 2: texture coordinates measured from the image's "
+                                         "top row (glTF's convention), those of the GOM's first "
+                                         "frame (frame 0) from its bottom row"),
+              std::string::npos)
+        << e.what();
+  }
   bad = frames;
   bad[2].positions[7][1] = std::nan("");
   EXPECT_THROW(encoder.encode(bad), Error);

@@ -486,18 +486,25 @@ TEST(AttributesRoundTrip, ChangingNormalsAreComputed) {
 // order): coded once, exact per corner, and the list order said; not computed.
 TEST(AttributesRoundTrip, ReorderedNormalsAreCodedExactlyPerCorner) {
   std::vector<Mesh> frames = test::wobblingSphere(2, 4, 1.0);
-  test::addAttributes(frames, false, true);
-  for (size_t f = 1; f < frames.size(); ++f) {
-    MeshAttributes& a = frames[f].attributes;
-    const uint32_t last = static_cast<uint32_t>(a.normals.size() - 1);
-    std::reverse(a.normals.begin(), a.normals.end());
-    for (Triangle& t : a.normalTriangles)
+  test::addAttributes(frames, true, true);
+  const auto reverse = [](auto& values, std::vector<Triangle>& indices) {
+    const uint32_t last = static_cast<uint32_t>(values.size() - 1);
+    std::reverse(values.begin(), values.end());
+    for (Triangle& t : indices)
       for (uint32_t& i : t)
         i = last - i;
-  }
+  };
+  for (size_t f = 1; f < frames.size(); ++f)
+    reverse(frames[f].attributes.normals, frames[f].attributes.normalTriangles);
+  reverse(frames[2].attributes.uvs, frames[2].attributes.uvTriangles);
+  // (roundTrip compares every corner's texture coordinate, bit for bit.)
   const Coded c = roundTrip(frames, ".obj", "obj", ".obj", {"--GOMSize=4"}, 16, false);
   EXPECT_NE(c.encoderErr.find("in/001.obj and 2 more frames of its GOM list the normals of the "
                               "GOM's first frame (in/000.obj) in another order"),
+            std::string::npos)
+      << c.encoderErr;
+  EXPECT_NE(c.encoderErr.find("in/002.obj lists the texture coordinates of the GOM's first frame "
+                              "(in/000.obj) in another order"),
             std::string::npos)
       << c.encoderErr;
   EXPECT_NE(c.encoderErr.find("normals from frame 0 on: coded exactly, once per I mesh"),
@@ -514,6 +521,19 @@ TEST(AttributesRoundTrip, ReorderedNormalsAreCodedExactlyPerCorner) {
   }
   // Normals coded accepts them too (nothing changes but the order).
   roundTrip(frames, ".obj", "obj", ".obj", {"--GOMSize=4", "--Normals=coded"}, 16, false);
+  // Values are compared bit for bit: -0 where the first frame has 0 is a change (the normals
+  // are then computed), not the first frame's value.
+  std::vector<Mesh> zero = test::wobblingSphere(2, 4, 1.0);
+  test::addAttributes(zero, false, true);
+  for (Mesh& m : zero)
+    m.attributes.normals[0] = {0.0f, 1.0f, 0.0f};
+  EXPECT_NE(roundTrip(zero, ".obj", "obj", ".obj", {"--GOMSize=4"})
+                .encoderErr.find("normals from frame 0 on: coded exactly, once per I mesh"),
+            std::string::npos);
+  zero[3].attributes.normals[0][0] = -0.0f;
+  const Coded signedZero = roundTrip(zero, ".obj", "obj", ".obj", {"--GOMSize=4"}, 16, false);
+  EXPECT_NE(signedZero.encoderErr.find("(they change within the GOM)"), std::string::npos)
+      << signedZero.encoderErr;
 }
 
 TEST(AttributesRoundTrip, EncoderRefusesWhatItWouldLose) {
